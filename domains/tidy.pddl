@@ -1,0 +1,130 @@
+;; tidy.pddl: the O-FSM tidy-up domain (Yan et al., ARSO 2021) in the tidyplan dialect.
+;;
+;; Mapping to the paper (seeds/000, Sec. IV-B, Table I):
+;;   stratum 1 = P1 = {take_object, move, deliver_it}
+;;               (Eq. 2-3: grasp an object and bring it to a deposit of its category,
+;;               both reachable along known collision-free paths h(x,y)).
+;;   stratum 2 = P2 = P1 + {possible_ego_pose_adjustment}
+;;               (Eq. 4 and "additional motions are potentially required to obtain a
+;;               feasible and collision-free pose": the robot reaches a pose that no
+;;               planned path leads to by adjusting its pose from a neighbouring one).
+;;   stratum 3 = P3 = P2 + {drop_object, move_back}
+;;               (Algorithm 1: take the obstructing object to the removal waypoint,
+;;               drop it there, move back, then carry on with P1).
+;; P1 is a subset of P2, which is a subset of P3. Strata rank plans lexicographically
+;; (Occam's razor, Eq. 1): a plan using stratum K+1 is chosen only when none within
+;; strata 1..K exists. Within a stratum the planner minimises c(pi) + R(1 - p(pi)).
+;;
+;; Costs: a move costs the path length k(x,y) in metres, given as (distance ?from ?to)
+;; in the problem; take, deliver and drop cost 1 each (the paper's action count).
+;; Probabilities are the success rates of the manipulation actions; moves are taken
+;; as certain.
+;;
+;; Static facts a problem provides: path, distance, blocks, pose-adjustment,
+;; removal-waypoint, deposit-at, of-category, accepts.
+;; Dynamic: robot-at, hand-empty, holding, item-at, blocked, tidied, must-move-back.
+;; An item's floor position obstructs the paths it `blocks` while it lies there: the
+;; problem lists those paths as `blocked` in :init, and taking the item clears them.
+;; Dropping an item back at the removal waypoint is chosen so as not to block anything.
+
+(define (domain tidy)
+  (:requirements :typing :equality :negative-preconditions :conditional-effects
+                 :action-costs :probabilities :strata)
+
+  (:types waypoint item deposit category)
+
+  (:predicates
+    (robot-at ?w - waypoint)
+    (hand-empty)
+    (holding ?o - item)
+    (item-at ?o - item ?w - waypoint)            ; ?o can be grasped from ?w
+    (deposit-at ?d - deposit ?w - waypoint)      ; ?d can be delivered to from ?w
+    (of-category ?o - item ?c - category)
+    (accepts ?d - deposit ?c - category)
+    (tidied ?o - item)
+    (path ?from ?to - waypoint)                  ; h(x,y): a collision-free path is known
+    (blocked ?from ?to - waypoint)               ; a floor item obstructs that path now
+    (blocks ?o - item ?from ?to - waypoint)      ; static: ?o is that obstruction
+    (pose-adjustment ?from ?to - waypoint)       ; an ego-pose adjustment reaches ?to
+    (removal-waypoint ?w - waypoint)             ; the waypoint Algorithm 1 chose
+    (must-move-back))                            ; set by drop_object until move_back
+
+  (:functions
+    (total-cost) - number
+    (distance ?from ?to - waypoint) - number)    ; path length k(x,y), metres
+
+  ;; ------------------------------------------------------------- stratum 1 (P1)
+  (:action move
+    :parameters (?from ?to - waypoint)
+    :stratum 1
+    :precondition (and (robot-at ?from)
+                       (path ?from ?to)
+                       (not (blocked ?from ?to))
+                       (not (must-move-back))
+                       (not (= ?from ?to)))
+    :effect (and (robot-at ?to)
+                 (not (robot-at ?from))
+                 (increase (total-cost) (distance ?from ?to))))
+
+  (:action take_object
+    :parameters (?o - item ?w - waypoint)
+    :stratum 1
+    :probability 0.95
+    :precondition (and (robot-at ?w) (item-at ?o ?w) (hand-empty))
+    :effect (and (holding ?o)
+                 (not (item-at ?o ?w))
+                 (not (hand-empty))
+                 ;; picking up a floor obstruction frees the paths it blocked
+                 (forall (?a ?b - waypoint)
+                   (when (blocks ?o ?a ?b) (not (blocked ?a ?b))))
+                 (increase (total-cost) 1)))
+
+  (:action deliver_it
+    :parameters (?o - item ?d - deposit ?w - waypoint ?c - category)
+    :stratum 1
+    :probability 0.98
+    :precondition (and (robot-at ?w)
+                       (deposit-at ?d ?w)
+                       (holding ?o)
+                       (of-category ?o ?c)
+                       (accepts ?d ?c))
+    :effect (and (tidied ?o)
+                 (hand-empty)
+                 (not (holding ?o))
+                 (increase (total-cost) 1)))
+
+  ;; ------------------------------------------------------------- stratum 2 (P2)
+  (:action possible_ego_pose_adjustment
+    :parameters (?from ?to - waypoint)
+    :stratum 2
+    :precondition (and (robot-at ?from)
+                       (pose-adjustment ?from ?to)
+                       (not (must-move-back)))
+    :effect (and (robot-at ?to)
+                 (not (robot-at ?from))
+                 (increase (total-cost) (distance ?from ?to))))
+
+  ;; ------------------------------------------------------------- stratum 3 (P3)
+  (:action drop_object
+    :parameters (?o - item ?w - waypoint)
+    :stratum 3
+    :probability 0.98
+    :precondition (and (robot-at ?w) (removal-waypoint ?w) (holding ?o))
+    :effect (and (item-at ?o ?w)
+                 (hand-empty)
+                 (not (holding ?o))
+                 (must-move-back)
+                 (increase (total-cost) 1)))
+
+  (:action move_back
+    :parameters (?from ?to - waypoint)
+    :stratum 3
+    :precondition (and (robot-at ?from)
+                       (must-move-back)
+                       (path ?from ?to)
+                       (not (blocked ?from ?to))
+                       (not (= ?from ?to)))
+    :effect (and (robot-at ?to)
+                 (not (robot-at ?from))
+                 (not (must-move-back))
+                 (increase (total-cost) (distance ?from ?to)))))

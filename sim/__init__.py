@@ -1,0 +1,1 @@
+"""The pybullet world of the HSR and the WRS room. Knows nothing of planning."""

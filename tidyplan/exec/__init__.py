@@ -1,0 +1,1 @@
+"""Bindings of symbolic actions to behaviour units, and the worlds that run them."""

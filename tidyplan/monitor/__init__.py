@@ -1,0 +1,1 @@
+"""The execution monitor (Yamazaki et al.): behaviour units and layered recovery."""
