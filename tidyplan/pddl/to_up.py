@@ -2,8 +2,10 @@
 
 Built directly from our model rather than through unified-planning's PDDL
 reader, which rejects real files that Fast Downward accepts (DIALECT.md §1) and
-takes seconds on large problems. Each conversion gets its own UP environment:
-no global state, and no engine credits printed on our output.
+takes seconds on large problems. It uses unified-planning's global environment:
+up-fast-downward's optimal engine builds expressions there whatever problem it
+is given, so a private environment breaks it. Engine credits are silenced so
+that they never mix with our output.
 """
 
 from __future__ import annotations
@@ -11,7 +13,7 @@ from __future__ import annotations
 from collections import OrderedDict
 from dataclasses import dataclass
 
-from unified_planning.environment import Environment
+from unified_planning.environment import Environment, get_environment
 from unified_planning.model import (
     Fluent,
     InstantaneousAction,
@@ -28,6 +30,20 @@ from .check import COST
 UNDEFINED_COST = 10**7  # cost of a grounding whose cost the file leaves undefined
 
 
+class SparseProblem(Problem):
+    """A UP problem whose `initial_values` are the explicit ones only.
+
+    UP's property enumerates every grounding of every fluent to add defaults
+    (617,000 for nomystery p01: 15 s in its PDDL writer). Under PDDL's closed
+    world the defaults here are `false` or an undefined cost, which a PDDL file
+    leaves unwritten anyway, so the explicit values say the same thing.
+    """
+
+    @property
+    def initial_values(self):
+        return dict(self._initial_value)
+
+
 @dataclass
 class UpTask:
     problem: Problem
@@ -36,7 +52,7 @@ class UpTask:
 
 class _Converter:
     def __init__(self, domain: m.Domain, problem: m.Problem) -> None:
-        self.env = Environment()
+        self.env = get_environment()
         self.env.credits_stream = None
         self.tm, self.em = self.env.type_manager, self.env.expression_manager
         self.domain, self.pddl_problem = domain, problem
@@ -122,7 +138,7 @@ class _Converter:
 
     def convert(self) -> Problem:
         d, p = self.domain, self.pddl_problem
-        problem = Problem(p.name, self.env)
+        problem = SparseProblem(p.name, self.env)
         for o in d.constants + p.all_objects:
             if o.name not in self.objects:
                 self.objects[o.name] = Object(o.name, self.type_of(o), self.env)

@@ -1,0 +1,299 @@
+"""Seeded tidy-up problems for ``domains/tidy.pddl`` in the WRS room, and their exact optimum.
+
+Why: the planner's cost optimality needs a reference that shares no code with it. This module
+builds a problem the way the simulation will (furniture boxes -> inflated occupancy grid ->
+shortest path lengths between waypoints) and solves the same cost model independently, by
+dynamic programming over subsets (Held-Karp), so a bench can hold the planner's plan cost to
+``optimum(seed)``. It imports only the standard library, numpy and networkx, never tidyplan.
+
+Room (figures from ../shared/HSR.md, Gazebo world of the WRS 2020 arena): x in [-3.0, 0.5],
+y in [-2.0, 2.0] (3.5 m x 4 m; the deposit wall's furniture is centred at x = -2.7, so we put
+the wall at x = -3.0 and the far wall 3.5 m away: our choice, not confirmed). The entrance
+door is at the corner x = 0.5, y = -2.0 (our choice; the rules only say "at one corner").
+Robot radius 0.22 m (HSR footprint about 0.43 m across). Grid 5 cm, 8-connected.
+Floor items are not obstacles here: the distances are those of the static map (the paper's
+pre-built occupancy grid); obstruction by floor items is modelled by `blocks` in P3 problems.
+
+Cost model (must match tidy.pddl): move = distance (2 decimals), take_object 1, deliver_it 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import networkx as nx
+import numpy as np
+
+CELL = 0.05
+X0, X1, Y0, Y1 = -3.0, 0.5, -2.0, 2.0
+ROBOT_RADIUS = 0.22
+ITEM_GAP = 0.2  # objects at least 0.2 m apart (WRS world spawn rule)
+GRASP_DIST, GRASP_MIN, GRASP_MAX = 0.45, 0.30, 0.65
+CLEAR = ROBOT_RADIUS + 0.05  # a waypoint keeps the robot off floor items (radius ~5 cm)
+ENTRANCE = (0.0, -1.6)
+DELIVERY_X = -2.15  # waypoints in front of the deposit wall, just outside the inflation
+CATEGORIES = ("food", "kitchen", "tool", "task")  # the 4 item categories (3 each at 12)
+
+
+@dataclass(frozen=True, slots=True)
+class Box:
+    """A piece of furniture: axis-aligned footprint, centre (cx, cy), size (sx, sy) in metres."""
+
+    name: str
+    cx: float
+    cy: float
+    sx: float
+    sy: float
+
+    def clearance(self, x: float, y: float) -> float:
+        """Distance from (x, y) to the footprint (0 inside)."""
+        dx = max(abs(x - self.cx) - self.sx / 2, 0.0)
+        dy = max(abs(y - self.cy) - self.sy / 2, 0.0)
+        return math.hypot(dx, dy)
+
+
+FURNITURE = (
+    Box("drawer", -2.70, 1.00, 0.44, 0.99),
+    Box("deposit-table", -2.70, -0.30, 0.40, 1.20),
+    Box("bin-a", -2.70, -1.70, 0.38, 0.33),
+    Box("bin-b", -2.70, -1.20, 0.38, 0.33),
+    Box("long-table", -0.30, 0.20, 0.40, 1.20),
+    Box("tall-table", -0.30, 1.20, 0.40, 0.40),
+    Box("shelf", -1.90, 1.86, 0.80, 0.28),
+    Box("chair", -0.90, 1.70, 0.58, 0.54),
+)
+# deposit -> (y of the deposit on the wall, category accepted); WRS rules via HSR.md
+DEPOSITS = {
+    "tray-a": (-0.75, "food"),
+    "tray-b": (-0.45, "food"),
+    "container-a": (-0.20, "kitchen"),
+    "container-b": (0.10, "orientation"),
+    "drawer": (1.00, "tool"),
+    "bin-a": (-1.70, "task"),
+    "bin-b": (-1.20, "unknown"),
+}
+# spawn zones (x range, y range, support); WRS world: half floor, a third long table, a sixth tall
+ZONES = {
+    "floor": ((-1.0, -0.4), (-0.35, 1.35)),
+    "long-table": ((-0.45, -0.2), (-0.35, 0.7)),
+    "tall-table": ((-0.45, -0.2), (1.0, 1.35)),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Instance:
+    """A generated problem: waypoints and their (x, y), rounded distances (inf: no path), items."""
+
+    waypoints: tuple[str, ...]
+    xy: tuple[tuple[float, float], ...]
+    dist: tuple[tuple[float, ...], ...]
+    items: tuple[tuple[str, str, str, float, float], ...]  # name, category, support, x, y
+    grasp: tuple[int, ...]  # waypoint index of each item's grasp waypoint
+
+
+def _cell_xy(i: int, j: int) -> tuple[float, float]:
+    return X0 + (i + 0.5) * CELL, Y0 + (j + 0.5) * CELL
+
+
+def _free_mask() -> np.ndarray:
+    """Cells whose centre is at least the robot radius from every wall and furniture box."""
+    nx_, ny = round((X1 - X0) / CELL), round((Y1 - Y0) / CELL)
+    free = np.zeros((nx_, ny), dtype=bool)
+    for i, j in itertools.product(range(nx_), range(ny)):
+        x, y = _cell_xy(i, j)
+        walls = min(x - X0, X1 - x, y - Y0, Y1 - y)
+        free[i, j] = walls >= ROBOT_RADIUS and all(
+            b.clearance(x, y) >= ROBOT_RADIUS for b in FURNITURE
+        )
+    return free
+
+
+def _grid_graph(free: np.ndarray) -> nx.Graph:
+    """8-connected graph over free cells; straight edges weigh a cell, diagonals sqrt(2) cells."""
+    g = nx.Graph()
+    nx_, ny = free.shape
+    steps = ((1, 0, CELL), (0, 1, CELL), (1, 1, CELL * math.sqrt(2)), (1, -1, CELL * math.sqrt(2)))
+    for i, j in zip(*np.nonzero(free)):
+        g.add_node((int(i), int(j)))
+        for di, dj, w in steps:
+            a, b = i + di, j + dj
+            if 0 <= a < nx_ and 0 <= b < ny and free[a, b]:
+                g.add_edge((int(i), int(j)), (int(a), int(b)), weight=w)
+    return g
+
+
+def _nearest_cell(x: float, y: float, cells: list[tuple[int, int]]) -> tuple[int, int]:
+    """The reachable cell closest to (x, y): snaps a waypoint onto the free space."""
+    return min(cells, key=lambda c: (math.dist(_cell_xy(*c), (x, y)), c))
+
+
+def _grasp_cell(
+    x: float, y: float, cells: list[tuple[int, int]], avoid: list[tuple[float, float]]
+) -> tuple[int, int] | None:
+    """A reachable free cell about 0.45 m from the item (the arm's comfortable reach) on which
+    the robot stands clear of every floor item and other waypoint in ``avoid``."""
+    best: tuple[float, tuple[int, int]] | None = None
+    for c in cells:
+        cx, cy = _cell_xy(*c)
+        d = math.dist((cx, cy), (x, y))
+        if GRASP_MIN <= d <= GRASP_MAX and all(math.dist((cx, cy), a) >= CLEAR for a in avoid):
+            key = (abs(d - GRASP_DIST), c)
+            if best is None or key < best:
+                best = key
+    return None if best is None else best[1]
+
+
+def _zone_counts(n: int) -> dict[str, int]:
+    """Half on the floor, a third on the long table, the rest on the tall table (6/4/2 at 12)."""
+    n_floor, n_long = (n + 1) // 2, n // 3
+    return {"floor": n_floor, "long-table": n_long, "tall-table": n - n_floor - n_long}
+
+
+@lru_cache(maxsize=32)
+def build(seed: int, n_items: int = 12) -> Instance:
+    """Place items, choose waypoints and compute all-pairs path lengths; deterministic in seed."""
+    rng = np.random.default_rng(seed)
+    free = _free_mask()
+    graph = _grid_graph(free)
+    start = _nearest_cell(*ENTRANCE, list(graph.nodes))
+    reachable = sorted(nx.node_connected_component(graph, start))
+    names, cells = ["wp-entrance"], [start]
+    for dep, (y, _cat) in DEPOSITS.items():
+        names.append(f"wp-{dep}")
+        cells.append(_nearest_cell(DELIVERY_X, y, reachable))
+    cats = [CATEGORIES[k % len(CATEGORIES)] for k in range(n_items)]
+    cats = [cats[k] for k in rng.permutation(n_items)]
+    items: list[tuple[str, str, str, float, float]] = []
+    grasp: list[int] = []
+    supports = [z for z, k in _zone_counts(n_items).items() for _ in range(k)]
+    for k, support in enumerate(supports):
+        (xa, xb), (ya, yb) = ZONES[support]
+        for _attempt in range(10000):
+            x, y = round(float(rng.uniform(xa, xb)), 3), round(float(rng.uniform(ya, yb)), 3)
+            if any(math.dist((x, y), (o[3], o[4])) < ITEM_GAP for o in items):
+                continue
+            if support == "floor" and (
+                any(b.clearance(x, y) < 0.05 for b in FURNITURE)  # not inside or under furniture
+                or any(math.dist((x, y), _cell_xy(*c)) < CLEAR for c in cells)  # off waypoints
+            ):
+                continue
+            floor = [(o[3], o[4]) for o in items if o[2] == "floor"]
+            cell = _grasp_cell(x, y, reachable, floor + [_cell_xy(*c) for c in cells])
+            if cell is not None:
+                break
+        else:
+            raise RuntimeError(f"seed {seed}: no place for item {k + 1}")
+        items.append((f"o{k + 1}", cats[k], support, x, y))
+        names.append(f"wp-o{k + 1}")
+        cells.append(cell)
+        grasp.append(len(cells) - 1)
+    rows = []
+    for c in cells:
+        lengths = nx.single_source_dijkstra_path_length(graph, c, weight="weight")
+        rows.append(tuple(round(lengths[d], 2) if d in lengths else math.inf for d in cells))
+    xy = tuple((round(x, 3), round(y, 3)) for x, y in (_cell_xy(*c) for c in cells))
+    return Instance(tuple(names), xy, tuple(rows), tuple(items), tuple(grasp))
+
+
+def generate(seed: int, n_items: int = 12) -> str:
+    """The dialect problem text for ``domains/tidy.pddl`` (plain PDDL apart from real costs)."""
+    inst = build(seed, n_items)
+    wp, items = inst.waypoints, inst.items
+    used = sorted({c for _, c in DEPOSITS.values()})
+    lines = [
+        f";; tidygen seed {seed}, {n_items} items: WRS tidy-up room, robot at the entrance.",
+        ";; Distances: shortest paths on a 5 cm grid, furniture inflated by 0.22 m.",
+        ";; Items (name category support x y):",
+        *(f";;   {n} {c} {s} {x:.3f} {y:.3f}" for n, c, s, x, y in items),
+        ";; Waypoints (name x y):",
+        *(f";;   {n} {x:.3f} {y:.3f}" for n, (x, y) in zip(wp, inst.xy)),
+        f";; optimum (bench/tidygen.py --optimum): {optimum(seed, n_items):.2f}",
+        f"(define (problem tidygen-{seed}-{n_items})",
+        "  (:domain tidy)",
+        "  (:objects",
+        "    " + " ".join(wp) + " - waypoint",
+        "    " + " ".join(n for n, *_ in items) + " - item",
+        "    " + " ".join(DEPOSITS) + " - deposit",
+        "    " + " ".join(used) + " - category)",
+        "  (:init",
+        "    (= (total-cost) 0)",
+        "    (robot-at wp-entrance) (hand-empty)",
+    ]
+    for (name, cat, *_), g in zip(items, inst.grasp):
+        lines.append(f"    (item-at {name} {wp[g]}) (of-category {name} {cat})")
+    for dep, (_y, cat) in DEPOSITS.items():
+        lines.append(f"    (deposit-at {dep} wp-{dep}) (accepts {dep} {cat})")
+    for a, b in itertools.permutations(range(len(wp)), 2):
+        d = inst.dist[a][b]
+        if math.isfinite(d):
+            lines.append(f"    (path {wp[a]} {wp[b]}) (= (distance {wp[a]} {wp[b]}) {d:.2f})")
+    lines[-1] += ")"
+    goal = " ".join(f"(tidied {n})" for n, *_ in items)
+    lines += [f"  (:goal (and {goal}))", "  (:metric minimize (total-cost)))", ""]
+    return "\n".join(lines)
+
+
+def _closure(dist: tuple[tuple[float, ...], ...]) -> list[list[float]]:
+    """Floyd-Warshall over the ROUNDED distances: chaining moves through other waypoints can
+    beat a direct move by a rounding cent, and the planner may do that, so the DP must too."""
+    d = [list(r) for r in dist]
+    n = len(d)
+    for k, i, j in itertools.product(range(n), repeat=3):
+        if d[i][k] + d[k][j] < d[i][j]:
+            d[i][j] = d[i][k] + d[k][j]
+    return d
+
+
+def optimum(seed: int, n_items: int = 12) -> float:
+    """Exact optimal total-cost by DP over subsets (Held-Karp).
+
+    State: (set of tidied items, robot location), the location being the entrance at the start
+    or the waypoint of the deposit last delivered to. The deposit is part of the state, not
+    minimised greedily, because it fixes where the next leg starts. One step: move to an item's
+    grasp waypoint, take (1), move to a deposit accepting its category, deliver (1). The hand
+    holds one item, so every plan is such a sequence; moves cost closure distances.
+    """
+    inst = build(seed, n_items)
+    d = _closure(inst.dist)
+    dep_wps = {name: inst.waypoints.index(f"wp-{name}") for name in DEPOSITS}
+    choices = [[dep_wps[n] for n, (_y, c) in DEPOSITS.items() if c == cat] for _, cat, *_ in inst.items]
+    layers: list[dict[int, float]] = [{} for _ in range(1 << n_items)]  # mask -> {loc: cost}
+    layers[0][0] = 0.0  # waypoint 0 is the entrance
+    for mask in range(1 << n_items):  # masks only grow, so increasing order is topological
+        for loc, cost in layers[mask].items():
+            for i in range(n_items):
+                if mask >> i & 1:
+                    continue
+                g, nxt = inst.grasp[i], layers[mask | 1 << i]
+                for w in choices[i]:
+                    c = cost + d[loc][g] + 1 + d[g][w] + 1
+                    if c < nxt.get(w, math.inf):
+                        nxt[w] = c
+    return round(min(layers[-1].values()), 2)
+
+
+def main() -> None:
+    """Command line: write a problem, or print its optimum."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--items", type=int, default=12)
+    ap.add_argument("--out", help="write the problem here (default: stdout)")
+    ap.add_argument("--optimum", action="store_true", help="print the optimal total-cost")
+    args = ap.parse_args()
+    if args.optimum:
+        print(f"{optimum(args.seed, args.items):.2f}")
+        return
+    text = generate(args.seed, args.items)
+    if args.out:
+        with open(args.out, "w", encoding="utf-8") as f:
+            f.write(text)
+    else:
+        print(text, end="")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,4 @@
+(define (problem routes-r1000) (:domain routes)
+  (:init (start))
+  (:goal (done))
+  (:goal-reward 1000))

@@ -1,0 +1,256 @@
+"""Planning engines, time budgets and plan results.
+
+`plan()` takes a dialect task, compiles it (`pddl.compile`), converts it to
+unified-planning (`pddl.to_up`) and asks an engine by name, stratum by stratum
+(`strata`). Results come back in the file's own names, with each step's
+probability, cost and stratum and the plan's Göbelbecker criterion.
+
+Engines are a plain registry: our presets by name, and any other name is
+handed to unified-planning's factory as it is.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass, field
+from enum import Enum
+
+from unified_planning.engines import PlanGenerationResultStatus as UpStatus
+from unified_planning.exceptions import UPException
+
+from .criterion import Score, score
+from .errors import PlannerError
+from .pddl import model as m
+from .pddl.compile import CompiledTask, compile_task
+from .pddl.to_up import to_up
+from .strata import Attempt, Outcome, plan_by_strata
+
+
+@dataclass(frozen=True, slots=True)
+class Engine:
+    """How to run one unified-planning engine."""
+
+    up_name: str
+    params: dict = field(default_factory=dict)
+    anytime: bool = False
+    about: str = ""
+
+
+# See docs/planner.md for the measurements behind the default.
+ENGINES: dict[str, Engine] = {
+    "lama": Engine(
+        "fast-downward",
+        {"fast_downward_anytime_alias": "seq-sat-lama-2011"},
+        anytime=True,
+        about="Fast Downward LAMA 2011, anytime: improves the plan's cost until the time budget",
+    ),
+    "lama-first": Engine(
+        "fast-downward",
+        {"fast_downward_alias": "lama-first"},
+        about="Fast Downward LAMA's first iteration: fast, ignores action costs",
+    ),
+    "optimal": Engine("fast-downward-opt", about="Fast Downward A* with LM-cut: cost-optimal, can be slow"),
+}
+DEFAULT_ENGINE = "lama"
+DEFAULT_TIME_BUDGET = 1.0  # seconds of search for one plan
+# Searches that accept axioms (an `exists` goal, a `forall` precondition):
+AXIOM_FALLBACK = "lama-first"
+
+
+class Status(Enum):
+    SOLVED = "solved"
+    NO_PLAN = "no-plan"  # proven: no plan within any stratum
+    UNKNOWN = "unknown"  # the budget ran out before a plan or a proof
+    ERROR = "error"
+
+
+@dataclass(frozen=True, slots=True)
+class Step:
+    name: str
+    args: tuple[str, ...]
+    assumption: bool
+    stratum: int
+    probability: float
+    cost: float
+
+    def to_json(self) -> dict:
+        return {
+            "name": self.name,
+            "args": list(self.args),
+            "assumption": self.assumption,
+            "stratum": self.stratum,
+            "probability": self.probability,
+            "cost": self.cost,
+        }
+
+    def __str__(self) -> str:
+        return "(" + " ".join((self.name,) + self.args) + ")"
+
+
+@dataclass(frozen=True)
+class PlanResult:
+    status: Status
+    steps: tuple[Step, ...]
+    score: Score | None
+    stratum: int | None  # the operator set the plan needed (P1, P2, ...)
+    attempts: tuple[Attempt, ...]
+    planning_time_s: float
+    engine: str
+    message: str = ""
+
+    @property
+    def strata(self) -> list[int]:
+        return sorted({s.stratum for s in self.steps})
+
+    def to_json(self) -> dict:
+        return {
+            "status": self.status.value,
+            "plan": [s.to_json() for s in self.steps],
+            "cost": self.score.cost if self.score else None,
+            "probability": self.score.probability if self.score else None,
+            "criterion": self.score.criterion if self.score else None,
+            "reward": self.score.reward if self.score else None,
+            "stratum": self.stratum,
+            "strata": self.strata,
+            "planning_time_s": round(self.planning_time_s, 4),
+            "engine": self.engine,
+            "attempts": [
+                {"stratum": a.stratum, "outcome": a.outcome.value, "seconds": round(a.seconds, 4)}
+                for a in self.attempts
+            ],
+            "message": self.message,
+        }
+
+
+def engine_names() -> list[str]:
+    return sorted(ENGINES)
+
+
+def plan(
+    domain: m.Domain,
+    problem: m.Problem,
+    planner: str = DEFAULT_ENGINE,
+    time_budget: float = DEFAULT_TIME_BUDGET,
+    max_stratum: int | None = None,
+    strata: bool = True,
+) -> PlanResult:
+    """One plan for the task, ranked by strata, then by the criterion.
+
+    With `strata=False` every operator is available at once and only the
+    criterion ranks plans: what the O-FSM ranking would cost, for comparison.
+    """
+    start = time.perf_counter()
+    task = compile_task(domain, problem)
+    engine = ENGINES.get(planner, Engine(planner))
+    messages: list[str] = []
+
+    def solve(sub: CompiledTask):
+        t0 = time.perf_counter()
+        outcome, steps = _solve_once(sub, task, engine, time_budget, messages)
+        return outcome, steps, time.perf_counter() - t0
+
+    if strata:
+        steps, stratum, attempts = plan_by_strata(task, solve, max_stratum)
+    else:
+        flat = task if max_stratum is None else task.restrict(max_stratum)
+        outcome, steps, seconds = solve(flat)
+        stratum = max((s.stratum for s in steps), default=1) if steps is not None else None
+        attempts = [Attempt(max(flat.strata), outcome, seconds)]
+    elapsed = time.perf_counter() - start
+    if steps is None:
+        outcomes = {a.outcome for a in attempts}
+        if Outcome.ERROR in outcomes:
+            status = Status.ERROR
+        elif outcomes == {Outcome.UNSOLVABLE}:
+            status = Status.NO_PLAN
+        else:
+            status = Status.UNKNOWN
+        tried = ", ".join(f"P{a.stratum} {a.outcome.value}" for a in attempts)
+        messages.insert(0, f"no plan within {tried}")
+        return PlanResult(status, (), None, None, tuple(attempts), elapsed, planner, "; ".join(messages))
+    result_score = score((s.cost for s in steps), (s.probability for s in steps), task.reward)
+    return PlanResult(Status.SOLVED, tuple(steps), result_score, stratum, tuple(attempts), elapsed, planner)
+
+
+def _solve_once(sub: CompiledTask, task: CompiledTask, engine: Engine, budget: float, messages: list[str]):
+    up_task = to_up(sub.domain, sub.problem)
+    result = _run(up_task, engine, budget)
+    if result.status == UpStatus.UNSUPPORTED_PROBLEM and engine is not ENGINES[AXIOM_FALLBACK]:
+        # Some searches refuse axioms (LM-cut, for one); FD makes axioms of an
+        # `exists` goal or a negated quantifier. Retry with one that takes them.
+        messages.append(f"{engine.up_name} refused the task (axioms?); used {AXIOM_FALLBACK}")
+        result = _run(up_task, ENGINES[AXIOM_FALLBACK], budget)
+    if result.plan is not None and result.plan.actions:
+        return Outcome.SOLVED, _steps(result.plan, task)
+    if result.plan is not None and result.status in (UpStatus.SOLVED_SATISFICING, UpStatus.SOLVED_OPTIMALLY):
+        return Outcome.SOLVED, []  # the goal holds already
+    if result.status in (UpStatus.UNSOLVABLE_PROVEN, UpStatus.UNSOLVABLE_INCOMPLETELY):
+        return Outcome.UNSOLVABLE, None
+    if result.status in (UpStatus.TIMEOUT, UpStatus.MEMOUT):
+        return Outcome.GAVE_UP, None
+    log = " ".join(lm.message for lm in result.log_messages or [] if lm.message)
+    messages.append(f"{engine.up_name} ended with {result.status.name}: {log.strip()[-300:]}")
+    return Outcome.ERROR, None
+
+
+def _run(up_task, engine: Engine, budget: float):
+    factory = up_task.environment.factory
+    try:
+        with warnings.catch_warnings():
+            # UP warns when it cannot tell whether an engine supports a feature;
+            # the engine's own exit status says so more precisely.
+            warnings.simplefilter("ignore", UserWarning)
+            return _run_engine(factory, up_task, engine, budget)
+    except UPException as e:
+        known = ", ".join(engine_names() + up_planner_names(factory))
+        reason = str(e).strip() or "no such engine"
+        raise PlannerError(f"planner '{engine.up_name}' cannot be used: {reason}; planners here: {known}") from None
+
+
+def _run_engine(factory, up_task, engine: Engine, budget: float):
+    try:
+        if engine.anytime:
+            last = None
+            with factory.AnytimePlanner(name=engine.up_name, params=engine.params) as planner:
+                for result in planner.get_solutions(up_task.problem, timeout=budget):
+                    if result.plan is not None or last is None:
+                        last = result
+            return last
+        with factory.OneshotPlanner(name=engine.up_name, params=engine.params) as planner:
+            return planner.solve(up_task.problem, timeout=budget)
+    except UPException:
+        raise
+    except Exception as e:  # an engine's own bug must not reach the user as a traceback
+        raise PlannerError(f"planner '{engine.up_name}' failed: {type(e).__name__}: {e}") from None
+
+
+def up_planner_names(factory) -> list[str]:
+    """unified-planning's engines that can plan (not validators, not compilers)."""
+    names = []
+    for name in factory.engines:
+        try:
+            if factory.engine(name).is_oneshot_planner():
+                names.append(name)
+        except Exception:  # an engine that fails to load is not one we can offer
+            continue
+    return names
+
+
+def _steps(up_plan, task: CompiledTask) -> list[Step]:
+    steps = []
+    for ai in up_plan.actions:
+        name = ai.action.name
+        args = tuple(p.object().name for p in ai.actual_parameters)
+        info = task.info[name]
+        steps.append(
+            Step(
+                name=info.name,
+                args=args,
+                assumption=info.is_assumption,
+                stratum=info.stratum,
+                probability=task.step_probability(name, args),
+                cost=task.step_cost(name, args),
+            )
+        )
+    return steps
