@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -56,6 +57,7 @@ class Box:
         return math.hypot(dx, dy)
 
 
+# sizes from the WRS rules; positions from the Gazebo world, except shelf and chair (our choice)
 FURNITURE = (
     Box("drawer", -2.70, 1.00, 0.44, 0.99),
     Box("deposit-table", -2.70, -0.30, 0.40, 1.20),
@@ -96,6 +98,7 @@ class Instance:
 
 
 def _cell_xy(i: int, j: int) -> tuple[float, float]:
+    """Centre of grid cell (i, j) in room coordinates."""
     return X0 + (i + 0.5) * CELL, Y0 + (j + 0.5) * CELL
 
 
@@ -106,9 +109,7 @@ def _free_mask() -> np.ndarray:
     for i, j in itertools.product(range(nx_), range(ny)):
         x, y = _cell_xy(i, j)
         walls = min(x - X0, X1 - x, y - Y0, Y1 - y)
-        free[i, j] = walls >= ROBOT_RADIUS and all(
-            b.clearance(x, y) >= ROBOT_RADIUS for b in FURNITURE
-        )
+        free[i, j] = walls >= ROBOT_RADIUS and all(b.clearance(x, y) >= ROBOT_RADIUS for b in FURNITURE)
     return free
 
 
@@ -117,7 +118,7 @@ def _grid_graph(free: np.ndarray) -> nx.Graph:
     g = nx.Graph()
     nx_, ny = free.shape
     steps = ((1, 0, CELL), (0, 1, CELL), (1, 1, CELL * math.sqrt(2)), (1, -1, CELL * math.sqrt(2)))
-    for i, j in zip(*np.nonzero(free)):
+    for i, j in zip(*np.nonzero(free), strict=True):
         g.add_node((int(i), int(j)))
         for di, dj, w in steps:
             a, b = i + di, j + dj
@@ -151,6 +152,16 @@ def _zone_counts(n: int) -> dict[str, int]:
     """Half on the floor, a third on the long table, the rest on the tall table (6/4/2 at 12)."""
     n_floor, n_long = (n + 1) // 2, n // 3
     return {"floor": n_floor, "long-table": n_long, "tall-table": n - n_floor - n_long}
+
+
+def _closure(dist: Sequence[Sequence[float]]) -> list[list[float]]:
+    """Floyd-Warshall: the cheapest chain of moves between every two waypoints."""
+    d = [list(r) for r in dist]
+    n = len(d)
+    for k, i, j in itertools.product(range(n), repeat=3):
+        if d[i][k] + d[k][j] < d[i][j]:
+            d[i][j] = d[i][k] + d[k][j]
+    return d
 
 
 @lru_cache(maxsize=32)
@@ -194,9 +205,13 @@ def build(seed: int, n_items: int = 12) -> Instance:
     rows = []
     for c in cells:
         lengths = nx.single_source_dijkstra_path_length(graph, c, weight="weight")
-        rows.append(tuple(round(lengths[d], 2) if d in lengths else math.inf for d in cells))
+        rows.append([round(lengths[d], 2) if d in lengths else math.inf for d in cells])
+    # Rounding to cents can make a chain of moves a cent cheaper than the direct one (about one
+    # pair in eight); closing the rounded matrix restores the triangle inequality, so a plan
+    # never detours through another waypoint to save a rounding cent.
+    dist = tuple(tuple(round(v, 2) for v in r) for r in _closure(rows))
     xy = tuple((round(x, 3), round(y, 3)) for x, y in (_cell_xy(*c) for c in cells))
-    return Instance(tuple(names), xy, tuple(rows), tuple(items), tuple(grasp))
+    return Instance(tuple(names), xy, dist, tuple(items), tuple(grasp))
 
 
 def generate(seed: int, n_items: int = 12) -> str:
@@ -210,7 +225,7 @@ def generate(seed: int, n_items: int = 12) -> str:
         ";; Items (name category support x y):",
         *(f";;   {n} {c} {s} {x:.3f} {y:.3f}" for n, c, s, x, y in items),
         ";; Waypoints (name x y):",
-        *(f";;   {n} {x:.3f} {y:.3f}" for n, (x, y) in zip(wp, inst.xy)),
+        *(f";;   {n} {x:.3f} {y:.3f}" for n, (x, y) in zip(wp, inst.xy, strict=True)),
         f";; optimum (bench/tidygen.py --optimum): {optimum(seed, n_items):.2f}",
         f"(define (problem tidygen-{seed}-{n_items})",
         "  (:domain tidy)",
@@ -223,7 +238,7 @@ def generate(seed: int, n_items: int = 12) -> str:
         "    (= (total-cost) 0)",
         "    (robot-at wp-entrance) (hand-empty)",
     ]
-    for (name, cat, *_), g in zip(items, inst.grasp):
+    for (name, cat, *_), g in zip(items, inst.grasp, strict=True):
         lines.append(f"    (item-at {name} {wp[g]}) (of-category {name} {cat})")
     for dep, (_y, cat) in DEPOSITS.items():
         lines.append(f"    (deposit-at {dep} wp-{dep}) (accepts {dep} {cat})")
@@ -237,17 +252,6 @@ def generate(seed: int, n_items: int = 12) -> str:
     return "\n".join(lines)
 
 
-def _closure(dist: tuple[tuple[float, ...], ...]) -> list[list[float]]:
-    """Floyd-Warshall over the ROUNDED distances: chaining moves through other waypoints can
-    beat a direct move by a rounding cent, and the planner may do that, so the DP must too."""
-    d = [list(r) for r in dist]
-    n = len(d)
-    for k, i, j in itertools.product(range(n), repeat=3):
-        if d[i][k] + d[k][j] < d[i][j]:
-            d[i][j] = d[i][k] + d[k][j]
-    return d
-
-
 def optimum(seed: int, n_items: int = 12) -> float:
     """Exact optimal total-cost by DP over subsets (Held-Karp).
 
@@ -255,10 +259,10 @@ def optimum(seed: int, n_items: int = 12) -> float:
     or the waypoint of the deposit last delivered to. The deposit is part of the state, not
     minimised greedily, because it fixes where the next leg starts. One step: move to an item's
     grasp waypoint, take (1), move to a deposit accepting its category, deliver (1). The hand
-    holds one item, so every plan is such a sequence; moves cost closure distances.
+    holds one item, so every plan is such a sequence; moves cost the cheapest chain of moves.
     """
     inst = build(seed, n_items)
-    d = _closure(inst.dist)
+    d = _closure(inst.dist)  # a no-op on build's matrix; kept so the DP relies on nothing else
     dep_wps = {name: inst.waypoints.index(f"wp-{name}") for name in DEPOSITS}
     choices = [[dep_wps[n] for n, (_y, c) in DEPOSITS.items() if c == cat] for _, cat, *_ in inst.items]
     layers: list[dict[int, float]] = [{} for _ in range(1 << n_items)]  # mask -> {loc: cost}
@@ -279,8 +283,8 @@ def optimum(seed: int, n_items: int = 12) -> float:
 def main() -> None:
     """Command line: write a problem, or print its optimum."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--items", type=int, default=12)
+    ap.add_argument("--seed", type=int, default=0, help="random seed (the problem is a function of it)")
+    ap.add_argument("--items", type=int, default=12, help="number of items (12: the WRS task)")
     ap.add_argument("--out", help="write the problem here (default: stdout)")
     ap.add_argument("--optimum", action="store_true", help="print the optimal total-cost")
     args = ap.parse_args()

@@ -17,6 +17,10 @@
 ;;
 ;; Costs: a move costs the path length k(x,y) in metres, given as (distance ?from ?to)
 ;; in the problem; take, deliver and drop cost 1 each (the paper's action count).
+;; possible_ego_pose_adjustment also costs (distance ?from ?to): there it is the length
+;; of the adjustment. One function serves both, so a problem should not give a pair
+;; both a path and a pose adjustment of different lengths (tidy-p2 and
+;; tidy-strata-cheap give the adjusted pairs no path).
 ;; Probabilities are the success rates of the manipulation actions; moves are taken
 ;; as certain.
 ;;

@@ -11,6 +11,8 @@
 ;;   create-viewcones-in cerealbox new-room1 place1                c 1
 ;;   search-for-object-in cerealbox new-room1 new-object1 place1   c 10       p 0.8
 ;;   report-position new-object1 cerealbox                         c 1
+;; (assumptions may come anywhere before the actions that need them; either virtual
+;; object may stand for the cerealbox)
 ;;
 ;; c(pi) + R(1 - p(pi)) of the competing plans, by hand:
 ;;   direct via place1 (above): c = 6+1+10+1 = 18,

@@ -15,7 +15,8 @@
 ;;   search-for-object-on cerealbox new-object1 new-object2 new-room1 place1
 ;;                                                                 c 3        p 0.8
 ;;   report-position new-object2 cerealbox                         c 1
-;; (assumptions may come in any order before the actions that need them)
+;; (assumptions may come anywhere before the actions that need them, and the virtual
+;; objects are interchangeable: a planner may bind new-object2 to the table instead)
 ;;
 ;; c(pi) + R(1 - p(pi)) of the competing plans, by hand:
 ;;   indirect via place1 (above):  c = 6+1+10+1+3+1 = 22,

@@ -16,7 +16,6 @@
 ;;   move wp-container wp-o1 (1.33); take_object o1 wp-o1
 ;;   move wp-o1 wp-tray (2.32); deliver_it o1 tray1 wp-tray food
 ;; p = 0.95^3 * 0.98^2 * 0.98 (drop) = 0.8070, c + 1000(1 - p) = 209.33.
-;; Next best found: c = 19.05.
 
 (define (problem tidy-p3)
   (:domain tidy)
