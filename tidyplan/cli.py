@@ -25,7 +25,9 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="tidyplan", description="Continual task planning for a service robot that tidies a room.")
+    p = _Parser(
+        prog="tidyplan", description="Continual task planning for a service robot that tidies a room."
+    )
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     c = sub.add_parser("check", help="read and check a domain (and a problem)")
@@ -35,10 +37,24 @@ def _parser() -> argparse.ArgumentParser:
     pl = sub.add_parser("plan", help="one plan: steps, cost, success probability, strata")
     pl.add_argument("domain")
     pl.add_argument("problem")
-    pl.add_argument("--planner", default=None, help="engine: lama (default), lama-first, optimal, or any unified-planning engine name")
-    pl.add_argument("--time-budget", type=_positive, default=None, metavar="S", help="search seconds per stratum (default 1)")
-    pl.add_argument("--max-stratum", type=_stratum, default=None, metavar="K", help="plan with strata 1..K only")
-    pl.add_argument("--no-strata", action="store_true", help="all operators at once, ranked by the criterion only")
+    pl.add_argument(
+        "--planner",
+        default=None,
+        help="engine: lama (default), lama-first, optimal, or any unified-planning engine name",
+    )
+    pl.add_argument(
+        "--time-budget",
+        type=_positive,
+        default=None,
+        metavar="S",
+        help="wall-clock seconds for the whole planning call (default 1)",
+    )
+    pl.add_argument(
+        "--max-stratum", type=_stratum, default=None, metavar="K", help="plan with strata 1..K only"
+    )
+    pl.add_argument(
+        "--no-strata", action="store_true", help="all operators at once, ranked by the criterion only"
+    )
     pl.add_argument("--json", action="store_true", help="print one JSON object")
 
     co = sub.add_parser("compile", help="write the task as plain PDDL with action costs")
@@ -122,7 +138,9 @@ def _print_plan(result) -> None:
             f"cost {s.cost:g}, success probability {s.probability:.4g}, "
             f"criterion c + R(1 - p) = {s.criterion:.4g} (R = {s.reward:g})"
         )
-        print(f"stratum P{result.stratum}; operators from {', '.join(f'P{k}' for k in result.strata) or 'none'}")
+        print(
+            f"stratum P{result.stratum}; operators from {', '.join(f'P{k}' for k in result.strata) or 'none'}"
+        )
     tried = ", ".join(f"P{a.stratum} {a.outcome.value} {a.seconds:.2f}s" for a in result.attempts)
     print(f"planning time {result.planning_time_s:.2f}s ({result.engine}; {tried})")
 
@@ -136,7 +154,10 @@ def cmd_compile(args) -> int:
     if args.max_stratum is not None:
         task = task.restrict(args.max_stratum)
     out = Path(args.out)
-    targets = {out / "domain.pddl": domain_text(task.domain), out / "problem.pddl": problem_text(task.problem)}
+    targets = {
+        out / "domain.pddl": domain_text(task.domain),
+        out / "problem.pddl": problem_text(task.problem),
+    }
     _refuse_overwrite(targets, [args.domain, args.problem], args.force)
     out.mkdir(parents=True, exist_ok=True)
     header = _compiled_header(task)
@@ -144,7 +165,8 @@ def cmd_compile(args) -> int:
         tmp = path.with_name(path.name + ".tmp")
         tmp.write_text(header + text)
         os.replace(tmp, path)  # atomic: a reader never sees half a file
-    print(f"wrote {out / 'domain.pddl'} and {out / 'problem.pddl'} (cost scale {task.scale}, R = {task.reward:g})")
+    written = " and ".join(str(p) for p in targets)
+    print(f"wrote {written} (cost scale {task.scale}, R = {task.reward:g})")
     return 0
 
 
@@ -173,7 +195,12 @@ def _refuse_overwrite(targets: dict[Path, str], inputs: list[str], force: bool) 
                 first = f.readline().rstrip("\n")
             if first != COMPILED_HEADER:
                 raise InputError(
-                    Diagnostic(str(path), None, None, "exists and was not written by tidyplan; use --force to replace it")
+                    Diagnostic(
+                        str(path),
+                        None,
+                        None,
+                        "exists and was not written by tidyplan; --force replaces it",
+                    )
                 )
 
 

@@ -5,57 +5,26 @@ unified-planning (`pddl.to_up`) and asks an engine by name, stratum by stratum
 (`strata`). Results come back in the file's own names, with each step's
 probability, cost and stratum and the plan's Göbelbecker criterion.
 
-Engines are a plain registry: our presets by name, and any other name is
-handed to unified-planning's factory as it is.
+Engines and how they are run are in `tidyplan.engines`.
 """
 
 from __future__ import annotations
 
 import time
-import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from enum import Enum
 
 from unified_planning.engines import PlanGenerationResultStatus as UpStatus
-from unified_planning.exceptions import UPException
 
 from .criterion import Score, score
-from .errors import PlannerError
+from .engines import AXIOM_FALLBACK, DEFAULT_ENGINE, ENGINES, Engine, run
 from .pddl import model as m
 from .pddl.compile import CompiledTask, compile_task
 from .pddl.to_up import to_up
 from .strata import Attempt, Outcome, plan_by_strata
 
-
-@dataclass(frozen=True, slots=True)
-class Engine:
-    """How to run one unified-planning engine."""
-
-    up_name: str
-    params: dict = field(default_factory=dict)
-    anytime: bool = False
-    about: str = ""
-
-
-# See docs/planner.md for the measurements behind the default.
-ENGINES: dict[str, Engine] = {
-    "lama": Engine(
-        "fast-downward",
-        {"fast_downward_anytime_alias": "seq-sat-lama-2011"},
-        anytime=True,
-        about="Fast Downward LAMA 2011, anytime: improves the plan's cost until the time budget",
-    ),
-    "lama-first": Engine(
-        "fast-downward",
-        {"fast_downward_alias": "lama-first"},
-        about="Fast Downward LAMA's first iteration: fast, ignores action costs",
-    ),
-    "optimal": Engine("fast-downward-opt", about="Fast Downward A* with LM-cut: cost-optimal, can be slow"),
-}
-DEFAULT_ENGINE = "lama"
-DEFAULT_TIME_BUDGET = 1.0  # seconds of search for one plan
-# Searches that accept axioms (an `exists` goal, a `forall` precondition):
-AXIOM_FALLBACK = "lama-first"
+DEFAULT_TIME_BUDGET = 1.0  # wall-clock seconds for one whole plan() call
+MIN_ATTEMPT_TIME = 0.25  # a later stratum still gets this long when the budget is spent
 
 
 class Status(Enum):
@@ -123,10 +92,6 @@ class PlanResult:
         }
 
 
-def engine_names() -> list[str]:
-    return sorted(ENGINES)
-
-
 def plan(
     domain: m.Domain,
     problem: m.Problem,
@@ -136,6 +101,10 @@ def plan(
     strata: bool = True,
 ) -> PlanResult:
     """One plan for the task, ranked by strata, then by the criterion.
+
+    `time_budget` is wall-clock seconds for the whole call: compilation and
+    every stratum tried. Each attempt gets what remains (at least
+    MIN_ATTEMPT_TIME); an anytime engine returns its best plan at the deadline.
 
     With `strata=False` every operator is available at once and only the
     criterion ranks plans: what the O-FSM ranking would cost, for comparison.
@@ -147,7 +116,8 @@ def plan(
 
     def solve(sub: CompiledTask):
         t0 = time.perf_counter()
-        outcome, steps = _solve_once(sub, task, engine, time_budget, messages)
+        deadline = t0 + max(MIN_ATTEMPT_TIME, time_budget - (t0 - start))
+        outcome, steps = _solve_once(sub, task, engine, deadline, messages)
         return outcome, steps, time.perf_counter() - t0
 
     if strata:
@@ -173,14 +143,16 @@ def plan(
     return PlanResult(Status.SOLVED, tuple(steps), result_score, stratum, tuple(attempts), elapsed, planner)
 
 
-def _solve_once(sub: CompiledTask, task: CompiledTask, engine: Engine, budget: float, messages: list[str]):
+def _solve_once(sub: CompiledTask, task: CompiledTask, engine: Engine, deadline: float, messages: list[str]):
     up_task = to_up(sub.domain, sub.problem)
-    result = _run(up_task, engine, budget)
+    # The engine's clock starts after our conversion: give it what is left.
+    budget = max(MIN_ATTEMPT_TIME, deadline - time.perf_counter())
+    result = run(up_task, engine, budget)
     if result.status == UpStatus.UNSUPPORTED_PROBLEM and engine is not ENGINES[AXIOM_FALLBACK]:
         # Some searches refuse axioms (LM-cut, for one); FD makes axioms of an
         # `exists` goal or a negated quantifier. Retry with one that takes them.
         messages.append(f"{engine.up_name} refused the task (axioms?); used {AXIOM_FALLBACK}")
-        result = _run(up_task, ENGINES[AXIOM_FALLBACK], budget)
+        result = run(up_task, ENGINES[AXIOM_FALLBACK], budget)
     if result.plan is not None and result.plan.actions:
         return Outcome.SOLVED, _steps(result.plan, task)
     if result.plan is not None and result.status in (UpStatus.SOLVED_SATISFICING, UpStatus.SOLVED_OPTIMALLY):
@@ -192,49 +164,6 @@ def _solve_once(sub: CompiledTask, task: CompiledTask, engine: Engine, budget: f
     log = " ".join(lm.message for lm in result.log_messages or [] if lm.message)
     messages.append(f"{engine.up_name} ended with {result.status.name}: {log.strip()[-300:]}")
     return Outcome.ERROR, None
-
-
-def _run(up_task, engine: Engine, budget: float):
-    factory = up_task.environment.factory
-    try:
-        with warnings.catch_warnings():
-            # UP warns when it cannot tell whether an engine supports a feature;
-            # the engine's own exit status says so more precisely.
-            warnings.simplefilter("ignore", UserWarning)
-            return _run_engine(factory, up_task, engine, budget)
-    except UPException as e:
-        known = ", ".join(engine_names() + up_planner_names(factory))
-        reason = str(e).strip() or "no such engine"
-        raise PlannerError(f"planner '{engine.up_name}' cannot be used: {reason}; planners here: {known}") from None
-
-
-def _run_engine(factory, up_task, engine: Engine, budget: float):
-    try:
-        if engine.anytime:
-            last = None
-            with factory.AnytimePlanner(name=engine.up_name, params=engine.params) as planner:
-                for result in planner.get_solutions(up_task.problem, timeout=budget):
-                    if result.plan is not None or last is None:
-                        last = result
-            return last
-        with factory.OneshotPlanner(name=engine.up_name, params=engine.params) as planner:
-            return planner.solve(up_task.problem, timeout=budget)
-    except UPException:
-        raise
-    except Exception as e:  # an engine's own bug must not reach the user as a traceback
-        raise PlannerError(f"planner '{engine.up_name}' failed: {type(e).__name__}: {e}") from None
-
-
-def up_planner_names(factory) -> list[str]:
-    """unified-planning's engines that can plan (not validators, not compilers)."""
-    names = []
-    for name in factory.engines:
-        try:
-            if factory.engine(name).is_oneshot_planner():
-                names.append(name)
-        except Exception:  # an engine that fails to load is not one we can offer
-            continue
-    return names
 
 
 def _steps(up_plan, task: CompiledTask) -> list[Step]:

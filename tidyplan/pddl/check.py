@@ -182,7 +182,9 @@ class _Checker:
         }
         for flag, actions in uses.items():
             if actions and flag not in reqs:
-                self.warn(actions[0].pos, f"'{actions[0].name}' uses an extension without the requirement {flag}")
+                self.warn(
+                    actions[0].pos, f"'{actions[0].name}' uses an extension without the requirement {flag}"
+                )
 
 
 def check_domain(domain: m.Domain) -> list[Diagnostic]:
@@ -192,7 +194,9 @@ def check_domain(domain: m.Domain) -> list[Diagnostic]:
 def check_problem(problem: m.Problem, domain: m.Domain) -> list[Diagnostic]:
     c = _Checker(problem.path, domain)
     if problem.domain_name and problem.domain_name != domain.name:
-        c.warn(problem.domain_pos, f"problem is for domain '{problem.domain_name}', read with '{domain.name}'")
+        c.warn(
+            problem.domain_pos, f"problem is for domain '{problem.domain_name}', read with '{domain.name}'"
+        )
     c.typed(problem.objects, "object")
     c.typed(problem.virtual_objects, "virtual object")
     objects: dict[str, m.Typed] = {t.name: t for t in domain.constants}

@@ -171,7 +171,9 @@ def _cost_terms(action: m.Action, unit_costs: bool, path: str) -> tuple[float | 
             terms.append(e.amount)
         elif isinstance(e, (m.When, m.ForallEffect)) and _has_increase(e):
             p = action.pos
-            raise PddlError(Diagnostic(path, p.line, p.col, f"'{action.name}': conditional costs are not supported"))
+            raise PddlError(
+                Diagnostic(path, p.line, p.col, f"'{action.name}': conditional costs are not supported")
+            )
     return tuple(terms)
 
 
@@ -229,7 +231,9 @@ def compile_task(domain: m.Domain, problem: m.Problem, scale: int | None = None)
     taken = set(names.values())
     for a in domain.actions:
         new_name = names[("action", a.name)]
-        amount, table_fn, table = _compile_cost(a, infos[new_name], values, reward, scale, taken, problem.path)
+        amount, table_fn, table = _compile_cost(
+            a, infos[new_name], values, reward, scale, taken, problem.path
+        )
         if table_fn is not None:
             functions.append(table_fn)
             cost_values.extend(table)
@@ -237,7 +241,12 @@ def compile_task(domain: m.Domain, problem: m.Problem, scale: int | None = None)
         parts = effect.parts if isinstance(effect, m.AndEffect) else (effect,)
         increase = m.Increase(m.FunctionTerm(COST, ()), amount)
         actions.append(
-            m.Action(new_name, ren.typed(a.parameters), ren.formula(a.precondition), m.AndEffect(parts + (increase,)))
+            m.Action(
+                new_name,
+                ren.typed(a.parameters),
+                ren.formula(a.precondition),
+                m.AndEffect(parts + (increase,)),
+            )
         )
 
     plain_reqs = tuple(r for r in domain.requirements if r not in EXTENSION_FLAGS)
@@ -281,7 +290,9 @@ def _scale(domain: m.Domain, infos: dict[str, ActionInfo], values) -> int:
     return choose_scale(costs, probabilities)
 
 
-def _compile_cost(a: m.Action, info: ActionInfo, values, reward: float, scale: int, taken: set[str], path: str):
+def _compile_cost(
+    a: m.Action, info: ActionInfo, values, reward: float, scale: int, taken: set[str], path: str
+):
     """(amount for the increase, new cost function or None, its :init values)."""
     terms = [t for t in info.cost_terms + (info.probability,) if isinstance(t, m.FunctionTerm)]
     if not terms:
@@ -300,7 +311,12 @@ def _compile_cost(a: m.Action, info: ActionInfo, values, reward: float, scale: i
         if not 0.0 < p <= 1.0 or math.isnan(p):
             pos = info.probability.pos if isinstance(info.probability, m.FunctionTerm) else a.pos
             raise PddlError(
-                Diagnostic(path, None, None, f"probability {p:g} of '{info.name}' (from {pos.line}:{pos.col}) is outside (0, 1]")
+                Diagnostic(
+                    path,
+                    None,
+                    None,
+                    f"probability {p:g} of '{info.name}' (from {pos.line}:{pos.col}) is outside (0, 1]",
+                )
             )
         args = tuple(row[v.name] for v in variables)
         table.append((m.FunctionTerm(fn_name, args), float(integer_cost(c, p, reward, scale))))

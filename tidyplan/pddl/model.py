@@ -9,7 +9,6 @@ checker can point at it.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Union
 
 ROOT_TYPE = "object"
 
@@ -81,7 +80,7 @@ class Forall:
     body: Formula
 
 
-Formula = Union[Atom, And, Or, Not, Imply, Exists, Forall]
+Formula = Atom | And | Or | Not | Imply | Exists | Forall
 TRUE = And(())
 
 
@@ -127,7 +126,7 @@ class Increase:
     pos: Pos = field(default=NOWHERE, compare=False)
 
 
-Effect = Union[Literal, AndEffect, When, ForallEffect, Increase]
+Effect = Literal | AndEffect | When | ForallEffect | Increase
 NO_EFFECT = AndEffect(())
 
 

@@ -144,12 +144,16 @@ class _Converter:
                 self.objects[o.name] = Object(o.name, self.type_of(o), self.env)
         problem.add_objects(list(self.objects.values()))
         for pred in d.predicates:
-            self.fluents[pred.name] = Fluent(pred.name, self.tm.BoolType(), self.params(pred.parameters), self.env)
+            self.fluents[pred.name] = Fluent(
+                pred.name, self.tm.BoolType(), self.params(pred.parameters), self.env
+            )
             problem.add_fluent(self.fluents[pred.name], default_initial_value=False)
         cost_fluents: dict[str, Fluent] = {}
         for fn in d.functions:
             if fn.name != COST:
-                cost_fluents[fn.name] = Fluent(fn.name, self.tm.IntType(), self.params(fn.parameters), self.env)
+                cost_fluents[fn.name] = Fluent(
+                    fn.name, self.tm.IntType(), self.params(fn.parameters), self.env
+                )
                 problem.add_fluent(cost_fluents[fn.name], default_initial_value=UNDEFINED_COST)
         costs = {}
         for a in d.actions:

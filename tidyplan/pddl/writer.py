@@ -55,11 +55,15 @@ def domain_text(d: m.Domain) -> str:
     if d.constants:
         out.append("  (:constants " + _typed(d.constants) + ")")
     out.append("  (:predicates")
-    out.extend(f"    ({p.name}{' ' if p.parameters else ''}{_typed(_distinct(p.parameters))})" for p in d.predicates)
+    out.extend(
+        f"    ({p.name}{' ' if p.parameters else ''}{_typed(_distinct(p.parameters))})" for p in d.predicates
+    )
     out.append("  )")
     if d.functions:
         out.append("  (:functions")
-        out.extend(f"    ({f.name}{' ' if f.parameters else ''}{_typed(f.parameters)}) - number" for f in d.functions)
+        out.extend(
+            f"    ({f.name}{' ' if f.parameters else ''}{_typed(f.parameters)}) - number" for f in d.functions
+        )
         out.append("  )")
     for a in d.actions:
         kind = "assumption" if a.is_assumption else "action"

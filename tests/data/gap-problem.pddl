@@ -1,0 +1,3 @@
+(define (problem gap-r1000) (:domain gap)
+  (:init (start))
+  (:goal (done)))
