@@ -33,13 +33,14 @@ def main() -> None:
     ap.add_argument("--items", type=int, default=12)
     ap.add_argument("--planner", default="lama")
     ap.add_argument("--time-budget", type=float, default=1.0)
+    ap.add_argument("--domain", default=str(ROOT / "domains" / "tidy.pddl"))
     args = ap.parse_args()
     ratios, times = [], []
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(args.first_seed, args.first_seed + args.seeds):
             path = Path(tmp) / f"tidy-{seed}.pddl"
             path.write_text(tidygen.generate(seed, args.items))
-            domain, problem = read(ROOT / "domains" / "tidy.pddl", path)
+            domain, problem = read(args.domain, path)
             result = plan(domain, problem, planner=args.planner, time_budget=args.time_budget)
             best = tidygen.optimum(seed, args.items)
             ratio = result.score.cost / best

@@ -7,9 +7,11 @@ Only this module turns errors into exit statuses: 0 success, 1 no plan,
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import sys
+import tempfile
 from pathlib import Path
 
 from .errors import Diagnostic, InputError, PlannerError, TidyplanError
@@ -86,7 +88,7 @@ def _stratum(text: str) -> int:
 def _read(domain: str, problem: str | None):
     from .pddl.reader import read
 
-    return read(domain, problem)
+    return read(domain, problem, warn=lambda d: print(d, file=sys.stderr))
 
 
 def cmd_check(args) -> int:
@@ -159,15 +161,30 @@ def cmd_compile(args) -> int:
         out / "problem.pddl": problem_text(task.problem),
     }
     _refuse_overwrite(targets, [args.domain, args.problem], args.force)
-    out.mkdir(parents=True, exist_ok=True)
     header = _compiled_header(task)
-    for path, text in targets.items():
-        tmp = path.with_name(path.name + ".tmp")
-        tmp.write_text(header + text)
-        os.replace(tmp, path)  # atomic: a reader never sees half a file
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        for path, text in targets.items():
+            _write_atomically(path, header + text)
+    except OSError as e:
+        raise InputError(Diagnostic(str(args.out), None, None, f"cannot write there: {e.strerror}")) from None
     written = " and ".join(str(p) for p in targets)
     print(f"wrote {written} (cost scale {task.scale}, R = {task.reward:g})")
     return 0
+
+
+def _write_atomically(path: Path, text: str) -> None:
+    """Write beside the target under a fresh name, then rename: a reader never
+    sees half a file, and no file of the user's is touched but the target."""
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
 
 
 def _compiled_header(task) -> str:

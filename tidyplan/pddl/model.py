@@ -176,6 +176,7 @@ class Domain:
     functions: tuple[Function, ...]
     actions: tuple[Action, ...]
     path: str = "<domain>"
+    pos: Pos = NOWHERE  # where `(define` is
 
     def __post_init__(self) -> None:
         # Lookup tables, derived once; the dataclass stays a value.
@@ -223,6 +224,7 @@ class Problem:
     requirements: tuple[str, ...] = ()
     path: str = "<problem>"
     domain_pos: Pos = NOWHERE
+    pos: Pos = NOWHERE  # where `(define` is
 
     @property
     def all_objects(self) -> tuple[Typed, ...]:

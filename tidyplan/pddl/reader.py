@@ -10,6 +10,7 @@ of `check.py` run on the result.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from functools import lru_cache
 from pathlib import Path
 
@@ -26,6 +27,15 @@ _MAX_BYTES = 64 * 1024 * 1024  # a PDDL file larger than this is not what the us
 
 def _pos(token: Token) -> m.Pos:
     return m.Pos(token.line or 0, token.column or 0)
+
+
+def _paren_before(token: Token, text: str) -> m.Pos:
+    """Where the '(' that opens `token`'s form is (`(define` rather than `define`)."""
+    at = text.rfind("(", 0, token.start_pos)
+    if at < 0:
+        return _pos(token)
+    line = text.count("\n", 0, at) + 1
+    return m.Pos(line, at - (text.rfind("\n", 0, at) + 1) + 1)
 
 
 def _group(items: list, default_type: str = m.ROOT_TYPE) -> tuple[m.Typed, ...]:
@@ -180,7 +190,7 @@ class _Build(Transformer):
             else:
                 key, value = item
                 parts[key] = parts[key] + value
-        return ("domain", str(c[1]), _pos(c[0]), parts, tuple(actions))
+        return ("domain", str(c[1]), c[0], parts, tuple(actions))
 
     # ----------------------------------------------------------- problem
     def problem_domain(self, c):
@@ -213,7 +223,7 @@ class _Build(Transformer):
         return ("goal_reward", (float(c[0]), _pos(c[0])))
 
     def problem(self, c):
-        return ("problem", str(c[1]), _pos(c[0]), list(c[2:]))
+        return ("problem", str(c[1]), c[0], list(c[2:]))
 
     def start(self, c):
         return c[0]
@@ -278,7 +288,7 @@ def read_text(path: str | os.PathLike) -> str:
     if b"\0" in data:
         raise PddlError(Diagnostic(p, None, None, "binary file, not PDDL text"))
     try:
-        return data.decode("utf-8")
+        return data.decode("utf-8-sig")  # a byte-order mark is not part of the text
     except UnicodeDecodeError as e:
         line = data[: e.start].count(b"\n") + 1
         col = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
@@ -287,14 +297,16 @@ def read_text(path: str | os.PathLike) -> str:
 
 def parse(text: str, path: str = "<string>"):
     """Parse dialect text into a Domain or a Problem (unchecked)."""
-    _check_parentheses(text, path)
+    balanced = not _open_parentheses(text, path)
     try:
         result = _parser().parse(text)
     except lark.exceptions.UnexpectedInput as e:
+        if not balanced:
+            raise PddlError(_never_closed(text, path, e)) from None
         raise PddlError(Diagnostic(path, e.line, e.column, _describe(e, text))) from None
     kind = result[0]
     if kind == "domain":
-        _, name, _pos_, parts, actions = result
+        _, name, define, parts, actions = result
         return m.Domain(
             name=name,
             requirements=parts["requirements"],
@@ -304,8 +316,9 @@ def parse(text: str, path: str = "<string>"):
             functions=parts["functions"],
             actions=actions,
             path=path,
+            pos=_paren_before(define, text),
         )
-    _, name, _pos_, items = result
+    _, name, define, items = result
     fields: dict = {}
     for key, value in items:
         if key in ("objects", "virtual_objects", "requirements") and key in fields:
@@ -327,49 +340,68 @@ def parse(text: str, path: str = "<string>"):
         requirements=fields.get("requirements", ()),
         path=path,
         domain_pos=domain_pos,
+        pos=_paren_before(define, text),
     )
 
 
-def read_domain(path: str | os.PathLike) -> m.Domain:
-    """Read and check a domain file; raises `PddlError` listing every problem."""
+Warn = Callable[[Diagnostic], None]
+
+
+def _ignore(_: Diagnostic) -> None:
+    pass
+
+
+def read_domain(path: str | os.PathLike, warn: Warn = _ignore) -> m.Domain:
+    """Read and check a domain file; raises `PddlError` listing every problem.
+
+    Warnings (an extension used without its requirement flag, say) do not stop
+    reading: each goes to `warn`.
+    """
     p = str(path)
     domain = parse(read_text(p), p)
     if not isinstance(domain, m.Domain):
-        raise PddlError(Diagnostic(p, 1, 1, "expected a domain, found a problem"))
-    _raise(check_domain(domain))
+        raise PddlError(Diagnostic(p, domain.pos.line, domain.pos.col, "expected a domain, found a problem"))
+    _report(check_domain(domain), warn)
     return domain
 
 
-def read_problem(path: str | os.PathLike, domain: m.Domain) -> m.Problem:
+def read_problem(path: str | os.PathLike, domain: m.Domain, warn: Warn = _ignore) -> m.Problem:
     """Read a problem file and check it against its domain."""
     p = str(path)
     problem = parse(read_text(p), p)
     if not isinstance(problem, m.Problem):
-        raise PddlError(Diagnostic(p, 1, 1, "expected a problem, found a domain"))
-    _raise(check_problem(problem, domain))
+        raise PddlError(
+            Diagnostic(p, problem.pos.line, problem.pos.col, "expected a problem, found a domain")
+        )
+    _report(check_problem(problem, domain), warn)
     return problem
 
 
-def read(domain_path: str | os.PathLike, problem_path: str | os.PathLike | None = None):
+def read(domain_path, problem_path=None, warn: Warn = _ignore):
     """Read a domain and, if given, a problem: `(domain, problem or None)`."""
-    domain = read_domain(domain_path)
-    problem = read_problem(problem_path, domain) if problem_path is not None else None
+    domain = read_domain(domain_path, warn)
+    problem = read_problem(problem_path, domain, warn) if problem_path is not None else None
     return domain, problem
 
 
-def _raise(diagnostics: list[Diagnostic]) -> None:
-    errors = [d for d in diagnostics if not d.message.startswith("warning:")]
+def _report(diagnostics: list[Diagnostic], warn: Warn) -> None:
+    errors = [d for d in diagnostics if not d.warning]
     if errors:
         raise PddlError(errors)
+    for d in diagnostics:
+        warn(d)
 
 
 # ------------------------------------------------------------- syntax errors
-def _check_parentheses(text: str, path: str) -> None:
-    """Report an unbalanced parenthesis where it is, not where lark gives up."""
+def _open_parentheses(text: str, path: str, stop: int | None = None) -> list[tuple[int, int]]:
+    """The '(' still open at offset `stop` (default: the end), outermost first.
+
+    Raises at a ')' that closes nothing: that mistake is unambiguous.
+    """
     stack: list[tuple[int, int]] = []
     line, col = 1, 0
     in_comment = False
-    for ch in text:
+    for ch in text if stop is None else text[:stop]:
         col += 1
         if ch == "\n":
             line, col, in_comment = line + 1, 0, False
@@ -383,9 +415,34 @@ def _check_parentheses(text: str, path: str) -> None:
             if not stack:
                 raise PddlError(Diagnostic(path, line, col, "unbalanced parenthesis: ')' closes nothing"))
             stack.pop()
-    if stack:
-        ln, cl = stack[0] if len(stack) == 1 else stack[-1]
-        raise PddlError(Diagnostic(path, ln, cl, "unbalanced parenthesis: '(' is never closed"))
+    return stack
+
+
+def _at_end(e: lark.exceptions.UnexpectedInput) -> bool:
+    """Lark's LALR parser reports the end of the text as a `$END` token."""
+    token = getattr(e, "token", None)
+    return isinstance(e, lark.exceptions.UnexpectedEOF) or getattr(token, "type", None) == "$END"
+
+
+def _never_closed(text: str, path: str, e: lark.exceptions.UnexpectedInput) -> Diagnostic:
+    """Locate the '(' a section lost its ')' from, when the parser stumbles over it.
+
+    Counting alone cannot tell which '(' lacks its ')'. The parser stops at the
+    first token that does not fit, typically the next section's keyword: the
+    culprit is the innermost '(' still open before that token's own '('.
+    """
+    at = getattr(e, "pos_in_stream", None)
+    if _at_end(e) or at is None or at < 0:
+        stack = _open_parentheses(text, path)
+    else:
+        stack = _open_parentheses(text, path, at)
+        if text[:at].rstrip().endswith("(") and len(stack) > 1:
+            stack = stack[:-1]
+    line, col = stack[-1]
+    where = (
+        "" if isinstance(e, lark.exceptions.UnexpectedEOF) else f" (reading stopped at {e.line}:{e.column})"
+    )
+    return Diagnostic(path, line, col, f"unbalanced parenthesis: '(' is never closed{where}")
 
 
 _TOKEN_WORDS = {
