@@ -1,0 +1,100 @@
+"""Running engines: deadlines, no litter in the user's folder, no subprocess left behind."""
+
+import os
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from tidyplan.engines import ENGINES, engine_names
+from tidyplan.errors import PlannerError
+from tidyplan.pddl.reader import read
+from tidyplan.planner import Status, plan
+
+ROOT = Path(__file__).parent.parent
+sys.path.insert(0, str(ROOT / "bench"))
+import tidygen  # noqa: E402
+
+
+def _engine_processes() -> set[int]:
+    """PIDs of running (not zombie) Fast Downward processes."""
+    pids = set()
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            cmd = (entry / "cmdline").read_bytes()
+            state = (entry / "stat").read_text().split(") ", 1)[1][0]
+        except OSError:
+            continue
+        if b"downward" in cmd and state != "Z":
+            pids.add(int(entry.name))
+    return pids
+
+
+@pytest.fixture
+def twelve_objects(tmp_path):
+    path = tmp_path / "tidy-12.pddl"
+    path.write_text(tidygen.generate(1))
+    return read(ROOT / "domains" / "tidy.pddl", path)
+
+
+@pytest.mark.slow
+def test_anytime_search_stops_at_the_deadline_and_keeps_its_best_plan(twelve_objects, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    before = _engine_processes()
+    start = time.perf_counter()
+    result = plan(*twelve_objects, time_budget=1.0)
+    elapsed = time.perf_counter() - start
+    assert result.status is Status.SOLVED
+    assert len(result.steps) >= 12 * 4
+    # the budget is the whole call; a little slack for a loaded machine
+    assert elapsed < 1.5
+    time.sleep(0.2)
+    assert _engine_processes() - before == set(), "an engine process outlived the call"
+    assert os.listdir(tmp_path) == ["tidy-12.pddl"], "the engine wrote into the working directory"
+
+
+@pytest.mark.slow
+def test_an_interrupted_call_leaves_no_engine_running(twelve_objects, monkeypatch):
+    """Ctrl-C while Fast Downward searches must not orphan it.
+
+    unified-planning starts the engine in its own session, so the terminal's
+    SIGINT never reaches it: only our clean-up can stop it.
+    """
+    import threading
+
+    import tidyplan.engines as engines
+
+    before = _engine_processes()
+
+    def interrupted(planner, problem, budget):
+        threading.Thread(target=lambda: list(planner.get_solutions(problem, timeout=60)), daemon=True).start()
+        for _ in range(200):  # wait until the engine is really running
+            if getattr(planner, "_process", None) is not None and _engine_processes() - before:
+                break
+            time.sleep(0.01)
+        assert _engine_processes() - before, "the engine never started"
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(engines, "_anytime_until_deadline", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        plan(*twelve_objects, time_budget=60.0)
+    time.sleep(0.3)
+    assert _engine_processes() - before == set()
+
+
+def test_unknown_planner_names_the_ones_there_are(twelve_objects):
+    with pytest.raises(PlannerError) as caught:
+        plan(*twelve_objects, planner="no-such-planner")
+    message = str(caught.value)
+    assert "no-such-planner" in message
+    for name in engine_names():
+        assert name in message
+    assert "fast-downward" in message
+
+
+def test_presets_name_unified_planning_engines():
+    assert {"lama", "lama-first", "optimal"} <= set(ENGINES)
+    assert ENGINES["lama"].anytime
