@@ -17,7 +17,7 @@ sys.path.insert(0, str(ROOT / "bench"))
 import tidygen  # noqa: E402
 
 
-def _engine_processes() -> set[int]:
+def _engine_processes(marker: bytes = b"downward") -> set[int]:
     """PIDs of running (not zombie) Fast Downward processes."""
     pids = set()
     for entry in Path("/proc").iterdir():
@@ -28,9 +28,12 @@ def _engine_processes() -> set[int]:
             state = (entry / "stat").read_text().split(") ", 1)[1][0]
         except OSError:
             continue
-        if b"downward" in cmd and state != "Z":
+        if marker in cmd and state != "Z":
             pids.add(int(entry.name))
     return pids
+
+
+SEARCH_BINARY = b"release/bin/downward"
 
 
 @pytest.fixture
@@ -71,11 +74,13 @@ def test_an_interrupted_call_leaves_no_engine_running(twelve_objects, monkeypatc
 
     def interrupted(planner, problem, budget):
         threading.Thread(target=lambda: list(planner.get_solutions(problem, timeout=60)), daemon=True).start()
-        for _ in range(200):  # wait until the engine is really running
-            if getattr(planner, "_process", None) is not None and _engine_processes() - before:
+        # Wait for the search binary itself: it has read its input, so only
+        # killing it stops it (a run still translating dies with its folder).
+        for _ in range(500):
+            if _engine_processes(SEARCH_BINARY) - before:
                 break
             time.sleep(0.01)
-        assert _engine_processes() - before, "the engine never started"
+        assert _engine_processes(SEARCH_BINARY) - before, "the search never started"
         raise KeyboardInterrupt
 
     monkeypatch.setattr(engines, "_anytime_until_deadline", interrupted)
