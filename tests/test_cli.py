@@ -1,0 +1,122 @@
+"""The command-line contract of DESIGN.md, and the README's own commands."""
+
+import json
+import re
+import shlex
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from tidyplan.cli import main
+
+ROOT = Path(__file__).parent.parent
+TIDY = str(ROOT / "domains" / "tidy.pddl")
+AVS = str(ROOT / "domains" / "avs.pddl")
+
+
+def _problem(name: str) -> str:
+    return str(ROOT / "problems" / f"{name}.pddl")
+
+
+def _plan_json(capsys, *args):
+    status = main(["plan", *args, "--json", "--time-budget", "30"])
+    out = capsys.readouterr().out
+    return status, json.loads(out)
+
+
+@pytest.mark.slow
+def test_plan_json_has_the_contract_fields(capsys):
+    status, result = _plan_json(capsys, TIDY, _problem("tidy-p2"))
+    assert status == 0
+    assert result["status"] == "solved"
+    for key in ("status", "plan", "cost", "probability", "strata", "planning_time_s"):
+        assert key in result
+    for step in result["plan"]:
+        assert set(step) >= {"name", "args", "assumption", "stratum", "probability", "cost"}
+    assert result["strata"] == [1, 2]
+    assert result["cost"] == pytest.approx(sum(s["cost"] for s in result["plan"]))
+    probability = 1.0
+    for step in result["plan"]:
+        probability *= step["probability"]
+    assert result["probability"] == pytest.approx(probability)
+
+
+@pytest.mark.slow
+def test_no_plan_exits_1_and_says_why(capsys):
+    status = main(["plan", TIDY, _problem("tidy-p3"), "--max-stratum", "2"])
+    captured = capsys.readouterr()
+    assert status == 1
+    assert "no plan within P1 unsolvable, P2 unsolvable" in captured.err
+    status, result = _plan_json(capsys, TIDY, _problem("tidy-p3"), "--max-stratum", "1")
+    assert status == 1
+    assert result["status"] == "no-plan"
+    assert result["plan"] == []
+
+
+@pytest.mark.slow
+def test_indirect_search_wins_as_in_the_papers_first_plan(capsys):
+    """Göbelbecker Sec. 4: assume a room, a table in it and the cerealbox on it; search the table first."""
+    status, result = _plan_json(capsys, AVS, _problem("avs-indirect"))
+    assert status == 0
+    names = [s["name"] for s in result["plan"]]
+    assumed = [s for s in result["plan"] if s["assumption"]]
+    assert {s["name"] for s in assumed} == {
+        "assume-leads-to-room",
+        "assume-obj-exists-in",
+        "assume-obj-exists-on",
+    }
+    assert all(s["cost"] == 0 for s in assumed)
+    table = names.index("search-for-object-in")
+    assert result["plan"][table]["args"][0] == "table"
+    assert names.index("search-for-object-on") > table
+    assert result["probability"] == pytest.approx(0.6 * 0.9 * 0.7 * 0.8 * 0.8)
+    assert result["cost"] == 22
+
+
+@pytest.mark.slow
+def test_direct_search_wins_when_tables_are_unlikely(capsys):
+    status, result = _plan_json(capsys, AVS, _problem("avs-direct"))
+    assert status == 0
+    searches = [s for s in result["plan"] if s["name"].startswith("search-for-object")]
+    assert [s["args"][0] for s in searches] == ["cerealbox"]
+
+
+@pytest.mark.slow
+def test_compiled_pddl_plans_the_same_with_fast_downward_alone(tmp_path, capsys):
+    """`compile` writes plain PDDL that another tool solves to a plan of the same cost."""
+    assert main(["compile", TIDY, _problem("tidy-p1"), "--out", str(tmp_path)]) == 0
+    capsys.readouterr()
+    status, original = _plan_json(capsys, TIDY, _problem("tidy-p1"), "--planner", "optimal")
+    status_c, compiled = _plan_json(
+        capsys, str(tmp_path / "domain.pddl"), str(tmp_path / "problem.pddl"), "--planner", "optimal"
+    )
+    assert status == status_c == 0
+    assert [(s["name"], s["args"]) for s in compiled["plan"]] == [
+        (s["name"], s["args"]) for s in original["plan"]
+    ]
+
+
+def _readme_commands() -> list[str]:
+    text = (ROOT / "README.md").read_text()
+    block = re.search(r"```\n(.*?)```", text, re.DOTALL)
+    assert block is not None, "README has no code block"
+    return [line for line in block.group(1).splitlines() if line.strip()]
+
+
+def test_readme_opens_with_exactly_two_commands():
+    lines = (ROOT / "README.md").read_text().splitlines()
+    assert lines[0].startswith("# ")
+    first_block = _readme_commands()
+    assert len(first_block) == 2
+    assert first_block[0].startswith("pip install") and "tidyplan" in first_block[0]
+    assert "pytest" in first_block[1]
+
+
+@pytest.mark.slow
+def test_readmes_main_command_runs():
+    """The part after the install: the installed package is already under test."""
+    command = _readme_commands()[0].split("&&", 1)[1].strip()
+    done = subprocess.run(shlex.split(command), cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "drop_object" in done.stdout and "stratum P3" in done.stdout
