@@ -106,3 +106,23 @@ def test_table_one_transitions():
     assert transition(2, 3) == "p_i unreachable"
     assert transition(3, 1) == "object delivered"
     assert transition(None, 1) is None
+
+
+def test_an_incomplete_search_that_finds_nothing_proves_nothing(monkeypatch):
+    """UNSOLVABLE_INCOMPLETELY from an engine is no proof: the result is 'unknown', not 'no plan'."""
+    from types import SimpleNamespace
+
+    from unified_planning.engines import PlanGenerationResultStatus as UpStatus
+
+    import tidyplan.planner as planner
+
+    def fake(status):
+        return lambda up_task, engine, budget: SimpleNamespace(status=status, plan=None, log_messages=[])
+
+    domain, prob = read(TIDY, ROOT / "problems" / "tidy-p1.pddl")
+    monkeypatch.setattr(planner, "run", fake(UpStatus.UNSOLVABLE_INCOMPLETELY))
+    result = plan(domain, prob)
+    assert result.status is Status.UNKNOWN
+    assert [a.outcome for a in result.attempts] == [Outcome.GAVE_UP] * 3
+    monkeypatch.setattr(planner, "run", fake(UpStatus.UNSOLVABLE_PROVEN))
+    assert plan(domain, prob).status is Status.NO_PLAN

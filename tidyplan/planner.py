@@ -158,10 +158,10 @@ def _solve_once(sub: CompiledTask, task: CompiledTask, engine: Engine, deadline:
         return Outcome.SOLVED, _steps(result.plan, task)
     if result.plan is not None and result.status in (UpStatus.SOLVED_SATISFICING, UpStatus.SOLVED_OPTIMALLY):
         return Outcome.SOLVED, []  # the goal holds already
-    if result.status in (UpStatus.UNSOLVABLE_PROVEN, UpStatus.UNSOLVABLE_INCOMPLETELY):
+    if result.status == UpStatus.UNSOLVABLE_PROVEN:
         return Outcome.UNSOLVABLE, None
-    if result.status in (UpStatus.TIMEOUT, UpStatus.MEMOUT):
-        return Outcome.GAVE_UP, None
+    if result.status in (UpStatus.UNSOLVABLE_INCOMPLETELY, UpStatus.TIMEOUT, UpStatus.MEMOUT):
+        return Outcome.GAVE_UP, None  # an incomplete search that found nothing proves nothing
     log = " ".join(lm.message for lm in result.log_messages or [] if lm.message)
     messages.append(f"{engine.up_name} ended with {result.status.name}: {log.strip()[-300:]}")
     return Outcome.ERROR, None

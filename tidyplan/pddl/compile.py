@@ -51,24 +51,21 @@ class CompiledTask:
     info: dict[str, ActionInfo]  # by compiled action name
     reward: float
     scale: int
+    values: dict[str, dict[tuple[str, ...], float]]  # the source problem's numeric :init
 
     def step_cost(self, action: str, args: tuple[str, ...]) -> float:
         """c(a) of a grounded compiled action, in the file's units."""
         info = self.info[action]
         binding = self._binding(action, args)
-        return sum(_value(t, binding, self._values) for t in info.cost_terms)
+        return sum(_value(t, binding, self.values) for t in info.cost_terms)
 
     def step_probability(self, action: str, args: tuple[str, ...]) -> float:
         info = self.info[action]
-        return _value(info.probability, self._binding(action, args), self._values)
+        return _value(info.probability, self._binding(action, args), self.values)
 
     def _binding(self, action: str, args: tuple[str, ...]) -> dict[str, str]:
         params = self.domain.action(action).parameters
         return {p.name: a for p, a in zip(params, args, strict=True)}
-
-    @property
-    def _values(self) -> dict[str, dict[tuple[str, ...], float]]:
-        return self.source_problem.value_table()
 
     @property
     def strata(self) -> tuple[int, ...]:
@@ -187,7 +184,7 @@ def _has_increase(e: m.Effect) -> bool:
     return False
 
 
-def _rows(terms: list[m.FunctionTerm], values, path: str) -> list[dict[str, str]]:
+def _rows(terms: list[m.FunctionTerm], values) -> list[dict[str, str]]:
     """Bindings of the terms' variables for which every term has a value."""
     rows: list[dict[str, str]] = [{}]
     for term in terms:
@@ -276,7 +273,7 @@ def compile_task(domain: m.Domain, problem: m.Problem, scale: int | None = None)
         metric=("minimize", m.FunctionTerm(COST, ())),
         path=problem.path,
     )
-    return CompiledTask(domain, problem, plain_domain, plain_problem, infos, reward, scale)
+    return CompiledTask(domain, problem, plain_domain, plain_problem, infos, reward, scale, values)
 
 
 def _scale(domain: m.Domain, infos: dict[str, ActionInfo], values) -> int:
@@ -305,7 +302,7 @@ def _compile_cost(
     taken.add(fn_name)
     fn = m.Function(fn_name, tuple(variables))
     table = []
-    for row in _rows(terms, values, path):
+    for row in _rows(terms, values):
         c = sum(_value(t, row, values) for t in info.cost_terms)
         p = _value(info.probability, row, values)
         if not 0.0 < p <= 1.0 or math.isnan(p):
