@@ -25,6 +25,7 @@ from ..criterion import DEFAULT_REWARD, choose_scale, integer_cost
 from ..errors import Diagnostic, PddlError
 from . import model as m
 from .check import COST
+from .either import compile_either
 
 EXTENSION_FLAGS = (":probabilities", ":assumptions", ":strata")
 
@@ -210,6 +211,8 @@ def _bind(row: dict[str, str], term_arg: str, value: str) -> bool:
 # ------------------------------------------------------------ compilation
 def compile_task(domain: m.Domain, problem: m.Problem, scale: int | None = None) -> CompiledTask:
     """The dialect task as plain PDDL with integer action costs."""
+    source_domain, source_problem = domain, problem
+    domain, problem = compile_either(domain, problem)
     names = _unique_names(domain, problem)
     ren = _Renamer(names)
     reward = problem.goal_reward if problem.goal_reward is not None else DEFAULT_REWARD
@@ -273,7 +276,9 @@ def compile_task(domain: m.Domain, problem: m.Problem, scale: int | None = None)
         metric=("minimize", m.FunctionTerm(COST, ())),
         path=problem.path,
     )
-    return CompiledTask(domain, problem, plain_domain, plain_problem, infos, reward, scale, values)
+    return CompiledTask(
+        source_domain, source_problem, plain_domain, plain_problem, infos, reward, scale, values
+    )
 
 
 def _scale(domain: m.Domain, infos: dict[str, ActionInfo], values) -> int:
