@@ -17,7 +17,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from .criterion import Score, score
+from .criterion import DEFAULT_REWARD, Score, score
+from .errors import PlannerError
 from .pddl import model as m
 from .planner import Status, Step, plan
 
@@ -49,7 +50,7 @@ def _vertex(steps) -> Vertex:
 
 def exact_optimum(domain: m.Domain, problem: m.Problem, time_budget: float = 120.0) -> ExactResult | None:
     """The criterion-optimal plan within the stratum the O-FSM ranking selects."""
-    reward = problem.goal_reward if problem.goal_reward is not None else 1000.0
+    reward = problem.goal_reward if problem.goal_reward is not None else DEFAULT_REWARD
     first = plan(domain, problem, planner="optimal", time_budget=time_budget)
     if first.status is not Status.SOLVED:
         return None
@@ -64,7 +65,7 @@ def exact_optimum(domain: m.Domain, problem: m.Problem, time_budget: float = 120
             domain, weighted, planner="optimal", time_budget=time_budget, max_stratum=stratum, strata=False
         )
         if r.status is not Status.SOLVED:
-            raise RuntimeError(f"optimal planner gave {r.status.value} at weight {weight}")
+            raise PlannerError(f"optimal planner gave {r.status.value} at weight {weight}")
         return _vertex(r.steps)
 
     cheapest, safest = solve(0.0), _vertex(first.steps)
