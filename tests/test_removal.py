@@ -1,0 +1,67 @@
+"""Algorithm 1 (Yan et al.): the waypoint for removing a blocking object."""
+
+from tidyplan.removal import Waypoint, removal_waypoint
+
+# The situation of the paper's Fig. 3, as its text describes it: the robot holds
+# the closest blocking object; around it are waypoints used for grasping and for
+# delivery, one it has not been to yet, and the ones it passed on the way in from
+# the entrance. The answer is the nearest waypoint it has passed that serves
+# neither grasping nor delivery.
+FIG3 = [
+    Waypoint("grasp-o3", 1.0, 0.2, for_grasping=True, reached=True),  # nearest, but for grasping
+    Waypoint("deposit-tray", 0.6, 0.9, for_delivery=True, reached=True),  # for delivery
+    Waypoint("unexplored", 1.2, -0.3),  # free and near, but never reached
+    Waypoint("corridor", 2.0, 0.5, reached=True),  # the answer
+    Waypoint("entrance", 3.0, 0.0, reached=True),  # eligible, farther
+]
+ROBOT = (1.1, 0.0)
+
+
+def test_algorithm_1_on_the_fig3_situation():
+    assert removal_waypoint(FIG3, ROBOT).name == "corridor"
+
+
+def test_a_waypoint_for_grasping_is_never_chosen():
+    only = [Waypoint("g", 1.1, 0.0, for_grasping=True, reached=True), Waypoint("far", 9, 9, reached=True)]
+    assert removal_waypoint(only, ROBOT).name == "far"
+
+
+def test_a_waypoint_for_delivery_is_never_chosen():
+    only = [Waypoint("d", 1.1, 0.0, for_delivery=True, reached=True), Waypoint("far", 9, 9, reached=True)]
+    assert removal_waypoint(only, ROBOT).name == "far"
+
+
+def test_a_waypoint_not_yet_reached_is_never_chosen():
+    only = [Waypoint("new", 1.1, 0.0), Waypoint("far", 9, 9, reached=True)]
+    assert removal_waypoint(only, ROBOT).name == "far"
+
+
+def test_no_eligible_waypoint_gives_none():
+    assert (
+        removal_waypoint([w for w in FIG3 if not w.reached or w.for_grasping or w.for_delivery], ROBOT)
+        is None
+    )
+    assert removal_waypoint([], ROBOT) is None
+
+
+def test_nearest_by_path_length_when_given_one():
+    """With a wall in the way, the Euclidean nearest is not the nearest by path."""
+    near_behind_wall = Waypoint("behind-wall", 1.1, 0.5, reached=True)
+    farther_open = Waypoint("open", 1.1, -1.0, reached=True)
+
+    def path_length(a, b):
+        return 4.0 if b == (1.1, 0.5) else 1.0
+
+    assert removal_waypoint([near_behind_wall, farther_open], ROBOT).name == "behind-wall"
+    assert removal_waypoint([near_behind_wall, farther_open], ROBOT, path_length).name == "open"
+
+
+def test_unreachable_by_path_is_not_eligible():
+    ws = [Waypoint("cut-off", 1.1, 0.1, reached=True), Waypoint("open", 2, 0, reached=True)]
+    assert removal_waypoint(ws, ROBOT, lambda a, b: None if b == (1.1, 0.1) else 1.0).name == "open"
+
+
+def test_ties_go_to_the_name():
+    ws = [Waypoint("b", 1.1, 1.0, reached=True), Waypoint("a", 1.1, -1.0, reached=True)]
+    assert removal_waypoint(ws, ROBOT).name == "a"
+    assert removal_waypoint(list(reversed(ws)), ROBOT).name == "a"
