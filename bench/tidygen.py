@@ -4,7 +4,8 @@ Why: the planner's cost optimality needs a reference that shares no code with it
 builds a problem the way the simulation will (furniture boxes -> inflated occupancy grid ->
 shortest path lengths between waypoints) and solves the same cost model independently, by
 dynamic programming over subsets (Held-Karp), so a bench can hold the planner's plan cost to
-``optimum(seed)``. It imports only the standard library, numpy and networkx, never tidyplan.
+``optimum(seed)``. The grid and its paths are ``sim.grid``'s (the simulation's own); otherwise
+it imports only the standard library and numpy, never tidyplan.
 
 Room (figures from ../shared/HSR.md, Gazebo world of the WRS 2020 arena): x in [-3.0, 0.5],
 y in [-2.0, 2.0] (3.5 m x 4 m; the deposit wall's furniture is centred at x = -2.7, so we put
@@ -26,12 +27,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
 
-import networkx as nx
 import numpy as np
 
-CELL = 0.05
+from sim.grid import CELL, ROBOT_RADIUS, Box, OccupancyGrid
+
 X0, X1, Y0, Y1 = -3.0, 0.5, -2.0, 2.0
-ROBOT_RADIUS = 0.22
 ITEM_GAP = 0.2  # objects at least 0.2 m apart (WRS world spawn rule)
 GRASP_DIST, GRASP_MIN, GRASP_MAX = 0.45, 0.30, 0.65
 CLEAR = ROBOT_RADIUS + 0.05  # a waypoint keeps the robot off floor items (radius ~5 cm)
@@ -40,33 +40,16 @@ DELIVERY_X = -2.15  # waypoints in front of the deposit wall, just outside the i
 CATEGORIES = ("food", "kitchen", "tool", "task")  # the 4 item categories (3 each at 12)
 
 
-@dataclass(frozen=True, slots=True)
-class Box:
-    """A piece of furniture: axis-aligned footprint, centre (cx, cy), size (sx, sy) in metres."""
-
-    name: str
-    cx: float
-    cy: float
-    sx: float
-    sy: float
-
-    def clearance(self, x: float, y: float) -> float:
-        """Distance from (x, y) to the footprint (0 inside)."""
-        dx = max(abs(x - self.cx) - self.sx / 2, 0.0)
-        dy = max(abs(y - self.cy) - self.sy / 2, 0.0)
-        return math.hypot(dx, dy)
-
-
 # sizes from the WRS rules; positions from the Gazebo world, except shelf and chair (our choice)
 FURNITURE = (
-    Box("drawer", -2.70, 1.00, 0.44, 0.99),
-    Box("deposit-table", -2.70, -0.30, 0.40, 1.20),
-    Box("bin-a", -2.70, -1.70, 0.38, 0.33),
-    Box("bin-b", -2.70, -1.20, 0.38, 0.33),
-    Box("long-table", -0.30, 0.20, 0.40, 1.20),
-    Box("tall-table", -0.30, 1.20, 0.40, 0.40),
-    Box("shelf", -1.90, 1.86, 0.80, 0.28),
-    Box("chair", -0.90, 1.70, 0.58, 0.54),
+    Box(-2.70, 1.00, 0.44, 0.99, "drawer"),
+    Box(-2.70, -0.30, 0.40, 1.20, "deposit-table"),
+    Box(-2.70, -1.70, 0.38, 0.33, "bin-a"),
+    Box(-2.70, -1.20, 0.38, 0.33, "bin-b"),
+    Box(-0.30, 0.20, 0.40, 1.20, "long-table"),
+    Box(-0.30, 1.20, 0.40, 0.40, "tall-table"),
+    Box(-1.90, 1.86, 0.80, 0.28, "shelf"),
+    Box(-0.90, 1.70, 0.58, 0.54, "chair"),
 )
 # deposit -> (y of the deposit on the wall, category accepted); WRS rules via HSR.md
 DEPOSITS = {
@@ -97,51 +80,22 @@ class Instance:
     grasp: tuple[int, ...]  # waypoint index of each item's grasp waypoint
 
 
-def _cell_xy(i: int, j: int) -> tuple[float, float]:
-    """Centre of grid cell (i, j) in room coordinates."""
-    return X0 + (i + 0.5) * CELL, Y0 + (j + 0.5) * CELL
+@lru_cache(maxsize=1)
+def _room() -> OccupancyGrid:
+    """The static map: the room's walls and furniture inflated by the robot radius, 5 cm cells."""
+    return OccupancyGrid((X0, X1, Y0, Y1), FURNITURE, cell=CELL, radius=ROBOT_RADIUS)
 
 
-def _free_mask() -> np.ndarray:
-    """Cells whose centre is at least the robot radius from every wall and furniture box."""
-    nx_, ny = round((X1 - X0) / CELL), round((Y1 - Y0) / CELL)
-    free = np.zeros((nx_, ny), dtype=bool)
-    for i, j in itertools.product(range(nx_), range(ny)):
-        x, y = _cell_xy(i, j)
-        walls = min(x - X0, X1 - x, y - Y0, Y1 - y)
-        free[i, j] = walls >= ROBOT_RADIUS and all(b.clearance(x, y) >= ROBOT_RADIUS for b in FURNITURE)
-    return free
-
-
-def _grid_graph(free: np.ndarray) -> nx.Graph:
-    """8-connected graph over free cells; straight edges weigh a cell, diagonals sqrt(2) cells."""
-    g = nx.Graph()
-    nx_, ny = free.shape
-    steps = ((1, 0, CELL), (0, 1, CELL), (1, 1, CELL * math.sqrt(2)), (1, -1, CELL * math.sqrt(2)))
-    for i, j in zip(*np.nonzero(free), strict=True):
-        g.add_node((int(i), int(j)))
-        for di, dj, w in steps:
-            a, b = i + di, j + dj
-            if 0 <= a < nx_ and 0 <= b < ny and free[a, b]:
-                g.add_edge((int(i), int(j)), (int(a), int(b)), weight=w)
-    return g
-
-
-def _nearest_cell(x: float, y: float, cells: list[tuple[int, int]]) -> tuple[int, int]:
-    """The reachable cell closest to (x, y): snaps a waypoint onto the free space."""
-    return min(cells, key=lambda c: (math.dist(_cell_xy(*c), (x, y)), c))
-
-
-def _grasp_cell(
-    x: float, y: float, cells: list[tuple[int, int]], avoid: list[tuple[float, float]]
-) -> tuple[int, int] | None:
-    """A reachable free cell about 0.45 m from the item (the arm's comfortable reach) on which
-    the robot stands clear of every floor item and other waypoint in ``avoid``."""
-    best: tuple[float, tuple[int, int]] | None = None
+def _grasp_point(
+    x: float, y: float, cells: list[tuple[float, float]], avoid: list[tuple[float, float]]
+) -> tuple[float, float] | None:
+    """A reachable free cell centre about 0.45 m from the item (the arm's comfortable reach) on
+    which the robot stands clear of every floor item and other waypoint in ``avoid``; ties go to
+    the lowest (x, y), which is the lowest cell index."""
+    best: tuple[float, tuple[float, float]] | None = None
     for c in cells:
-        cx, cy = _cell_xy(*c)
-        d = math.dist((cx, cy), (x, y))
-        if GRASP_MIN <= d <= GRASP_MAX and all(math.dist((cx, cy), a) >= CLEAR for a in avoid):
+        d = math.dist(c, (x, y))
+        if GRASP_MIN <= d <= GRASP_MAX and all(math.dist(c, a) >= CLEAR for a in avoid):
             key = (abs(d - GRASP_DIST), c)
             if best is None or key < best:
                 best = key
@@ -168,14 +122,13 @@ def _closure(dist: Sequence[Sequence[float]]) -> list[list[float]]:
 def build(seed: int, n_items: int = 12) -> Instance:
     """Place items, choose waypoints and compute all-pairs path lengths; deterministic in seed."""
     rng = np.random.default_rng(seed)
-    free = _free_mask()
-    graph = _grid_graph(free)
-    start = _nearest_cell(*ENTRANCE, list(graph.nodes))
-    reachable = sorted(nx.node_connected_component(graph, start))
-    names, cells = ["wp-entrance"], [start]
+    room = _room()
+    start = room.nearest_free(*ENTRANCE)
+    reachable = room.free_cells(reachable_from=start)
+    names, points = ["wp-entrance"], [start]
     for dep, (y, _cat) in DEPOSITS.items():
         names.append(f"wp-{dep}")
-        cells.append(_nearest_cell(DELIVERY_X, y, reachable))
+        points.append(room.nearest_free(DELIVERY_X, y, reachable_from=start))
     cats = [CATEGORIES[k % len(CATEGORIES)] for k in range(n_items)]
     cats = [cats[k] for k in rng.permutation(n_items)]
     items: list[tuple[str, str, str, float, float]] = []
@@ -189,28 +142,25 @@ def build(seed: int, n_items: int = 12) -> Instance:
                 continue
             if support == "floor" and (
                 any(b.clearance(x, y) < 0.05 for b in FURNITURE)  # not inside or under furniture
-                or any(math.dist((x, y), _cell_xy(*c)) < CLEAR for c in cells)  # off waypoints
+                or any(math.dist((x, y), p) < CLEAR for p in points)  # off waypoints
             ):
                 continue
             floor = [(o[3], o[4]) for o in items if o[2] == "floor"]
-            cell = _grasp_cell(x, y, reachable, floor + [_cell_xy(*c) for c in cells])
-            if cell is not None:
+            point = _grasp_point(x, y, reachable, floor + points)
+            if point is not None:
                 break
         else:
             raise RuntimeError(f"seed {seed}: no place for item {k + 1}")
         items.append((f"o{k + 1}", cats[k], support, x, y))
         names.append(f"wp-o{k + 1}")
-        cells.append(cell)
-        grasp.append(len(cells) - 1)
-    rows = []
-    for c in cells:
-        lengths = nx.single_source_dijkstra_path_length(graph, c, weight="weight")
-        rows.append([round(lengths[d], 2) if d in lengths else math.inf for d in cells])
+        points.append(point)
+        grasp.append(len(points) - 1)
+    rows = [[math.inf if v is None else round(v, 2) for v in r] for r in room.path_lengths(points)]
     # Rounding to cents can make a chain of moves a cent cheaper than the direct one (about one
     # pair in eight); closing the rounded matrix restores the triangle inequality, so a plan
     # never detours through another waypoint to save a rounding cent.
     dist = tuple(tuple(round(v, 2) for v in r) for r in _closure(rows))
-    xy = tuple((round(x, 3), round(y, 3)) for x, y in (_cell_xy(*c) for c in cells))
+    xy = tuple((round(x, 3), round(y, 3)) for x, y in points)
     return Instance(tuple(names), xy, dist, tuple(items), tuple(grasp))
 
 
