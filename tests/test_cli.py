@@ -120,3 +120,36 @@ def test_readmes_main_command_runs():
     done = subprocess.run(shlex.split(command), cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert "drop_object" in done.stdout and "stratum P3" in done.stdout
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "domain, problem",
+    [(TIDY, "tidy-p1"), (TIDY, "tidy-p2"), (TIDY, "tidy-p3"), (AVS, "avs-indirect"), (AVS, "avs-direct")],
+)
+def test_val_accepts_our_plans_on_the_compiled_pddl(domain, problem, tmp_path, capsys, val):
+    """DESIGN.md: VAL reads the plain PDDL `tidyplan compile` writes, so it can hold our plans to it.
+
+    The dialect's plans (assumptions included: they are actions in plain PDDL)
+    are valid there, and VAL's plan value is the compiled integer cost.
+    """
+    from tidyplan.criterion import integer_cost
+    from tidyplan.pddl.compile import compile_task
+    from tidyplan.pddl.reader import read
+
+    assert main(["compile", domain, _problem(problem), "--out", str(tmp_path)]) == 0
+    capsys.readouterr()
+    status, result = _plan_json(capsys, domain, _problem(problem))
+    assert status == 0
+    verdict = val(
+        tmp_path / "domain.pddl",
+        tmp_path / "problem.pddl",
+        ["(" + " ".join([s["name"], *s["args"]]) + ")" for s in result["plan"]],
+    )
+    assert verdict.valid, verdict.output
+    task = compile_task(*read(domain, _problem(problem)))
+    value = float(re.search(r"^Final value: (\S+)", verdict.output, re.MULTILINE).group(1))
+    expected = sum(
+        integer_cost(s["cost"], s["probability"], result["reward"], task.scale) for s in result["plan"]
+    )
+    assert value == expected
