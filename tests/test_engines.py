@@ -103,3 +103,36 @@ def test_unknown_planner_names_the_ones_there_are(twelve_objects):
 def test_presets_name_unified_planning_engines():
     assert {"lama", "lama-first", "optimal"} <= set(ENGINES)
     assert ENGINES["lama"].anytime
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("signum, status", [("SIGINT", 130), ("SIGTERM", 143), ("SIGHUP", 129)])
+def test_a_signal_mid_search_stops_tidyplan_and_its_engine(signum, status, tmp_path):
+    """Ctrl-C, `kill`, a closed terminal: one line, exit 128 + signal, no engine left running."""
+    import signal
+    import subprocess
+
+    problem = tmp_path / "tidy-12.pddl"
+    problem.write_text(tidygen.generate(1))
+    before = _engine_processes(SEARCH_BINARY)
+    run = subprocess.Popen(
+        ["tidyplan", "plan", str(ROOT / "domains" / "tidy.pddl"), str(problem), "--time-budget", "60"],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        # a child of a non-interactive shell may inherit SIGINT ignored: restore the default
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.default_int_handler),
+    )
+    for _ in range(300):  # until the search itself runs
+        if _engine_processes(SEARCH_BINARY) - before:
+            break
+        time.sleep(0.05)
+    assert _engine_processes(SEARCH_BINARY) - before, "the search never started"
+    run.send_signal(getattr(signal, signum))
+    _, err = run.communicate(timeout=30)
+    assert run.returncode == status
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    time.sleep(0.3)
+    assert _engine_processes(SEARCH_BINARY) - before == set()
+    assert sorted(os.listdir(tmp_path)) == ["tidy-12.pddl"]

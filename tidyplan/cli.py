@@ -10,6 +10,7 @@ import argparse
 import contextlib
 import json
 import os
+import signal
 import sys
 import tempfile
 from pathlib import Path
@@ -224,8 +225,25 @@ def _refuse_overwrite(targets: dict[Path, str], inputs: list[str], force: bool) 
 COMMANDS = {"check": cmd_check, "plan": cmd_plan, "compile": cmd_compile}
 
 
+class Terminated(BaseException):
+    """SIGTERM or SIGHUP: stop like Ctrl-C, so that clean-up code runs.
+
+    Python's default for these signals is to die at once, skipping `finally`;
+    the planning engine runs in a session of its own and would be orphaned.
+    """
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _raise_terminated(signum, _frame) -> None:
+    raise Terminated(signum)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    previous = {s: signal.signal(s, _raise_terminated) for s in (signal.SIGTERM, signal.SIGHUP)}
     try:
         return COMMANDS[args.command](args)
     except InputError as e:
@@ -241,8 +259,14 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("tidyplan: interrupted", file=sys.stderr)
         return 130
+    except Terminated as e:
+        print(f"tidyplan: stopped by {signal.Signals(e.signum).name}", file=sys.stderr)
+        return 128 + e.signum
     except BrokenPipeError:
         return 0
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
 
 
 if __name__ == "__main__":
