@@ -153,3 +153,18 @@ def test_val_accepts_our_plans_on_the_compiled_pddl(domain, problem, tmp_path, c
         integer_cost(s["cost"], s["probability"], result["reward"], task.scale) for s in result["plan"]
     )
     assert value == expected
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("planner", ["lama", "lama-first", "optimal"])
+def test_a_goal_that_already_holds_is_an_empty_plan(planner, tmp_path, capsys):
+    (tmp_path / "d.pddl").write_text(
+        "(define (domain lights) (:predicates (on))\n"
+        "  (:action switch :parameters () :precondition () :effect (on)))"
+    )
+    (tmp_path / "p.pddl").write_text("(define (problem lit) (:domain lights) (:init (on)) (:goal (on)))")
+    status, result = _plan_json(
+        capsys, str(tmp_path / "d.pddl"), str(tmp_path / "p.pddl"), "--planner", planner
+    )
+    assert (status, result["status"], result["plan"], result["cost"]) == (0, "solved", [], 0)
+    assert result["probability"] == 1

@@ -110,6 +110,9 @@ def _anytime_until_deadline(planner, problem, budget: float):
         try:
             for result in planner.get_solutions(problem, timeout=budget + 1.0):
                 results.append(result)
+                if result.plan is not None and not result.plan.actions:
+                    _reap(planner)  # nothing beats the empty plan: stop searching
+
         except BaseException as e:  # handed to the caller below
             failures.append(e)
         finally:

@@ -154,10 +154,8 @@ def _solve_once(sub: CompiledTask, task: CompiledTask, engine: Engine, deadline:
         # `exists` goal or a negated quantifier. Retry with one that takes them.
         messages.append(f"{engine.up_name} refused the task (axioms?); used {AXIOM_FALLBACK}")
         result = run(up_task, ENGINES[AXIOM_FALLBACK], budget)
-    if result.plan is not None and result.plan.actions:
+    if result.plan is not None:  # an empty plan too: the goal holds already
         return Outcome.SOLVED, _steps(result.plan, task)
-    if result.plan is not None and result.status in (UpStatus.SOLVED_SATISFICING, UpStatus.SOLVED_OPTIMALLY):
-        return Outcome.SOLVED, []  # the goal holds already
     if result.status == UpStatus.UNSOLVABLE_PROVEN:
         return Outcome.UNSOLVABLE, None
     if result.status in (UpStatus.UNSOLVABLE_INCOMPLETELY, UpStatus.TIMEOUT, UpStatus.MEMOUT):
