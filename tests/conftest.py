@@ -10,8 +10,11 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import re
+import shutil
 import stat
 import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -172,3 +175,31 @@ def write(tmp_path: Path):
         return path
 
     return _write
+
+
+@pytest.fixture(scope="module")
+def tidyplan_cmd() -> list[str]:
+    """The installed `tidyplan` command, found next to this interpreter first."""
+    beside = Path(sys.executable).with_name("tidyplan")
+    found = str(beside) if beside.exists() else shutil.which("tidyplan")
+    if found is None:
+        pytest.skip("the tidyplan command is not installed (pip install -e .)")
+    return [found]
+
+
+@pytest.fixture
+def expect_lines():
+    """`expect_lines(stderr, [(path, line, col, message regex), ...])`: exactly those lines."""
+
+    def check(stderr: str, expected: list[tuple[str, int | None, int | None, str]]) -> None:
+        """stderr is exactly these diagnostics, in order: (path, line, col, message regex)."""
+        assert "Traceback" not in stderr
+        lines = stderr.splitlines()
+        assert len(lines) == len(expected), stderr
+        for text, (path, line, col, message) in zip(lines, expected, strict=True):
+            where = re.escape(path) + (f":{line}:{col}" if line is not None else "")
+            assert re.fullmatch(f"{where}: {message}", text), (
+                f"{text!r} is not {path}:{line}:{col}: /{message}/"
+            )
+
+    return check

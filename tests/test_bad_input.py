@@ -8,10 +8,7 @@ element that is wrong (the predicate name of an atom, the number after
 
 from __future__ import annotations
 
-import re
-import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -53,28 +50,8 @@ def _domain_with(action_text: str) -> str:
     return DOMAIN[: -len(ACTION)] + action_text
 
 
-@pytest.fixture(scope="module")
-def tidyplan_cmd() -> list[str]:
-    """The installed `tidyplan` command, found next to this interpreter first."""
-    beside = Path(sys.executable).with_name("tidyplan")
-    found = str(beside) if beside.exists() else shutil.which("tidyplan")
-    if found is None:
-        pytest.skip("the tidyplan command is not installed (pip install -e .)")
-    return [found]
-
-
 def _run(cmd: list[str], args: list[str], cwd: Path) -> subprocess.CompletedProcess:
     return subprocess.run(cmd + args, capture_output=True, text=True, cwd=cwd, timeout=120)
-
-
-def _expect_lines(stderr: str, expected: list[tuple[str, int | None, int | None, str]]) -> None:
-    """stderr is exactly these diagnostics, in order: (path, line, col, message regex)."""
-    assert "Traceback" not in stderr
-    lines = stderr.splitlines()
-    assert len(lines) == len(expected), stderr
-    for text, (path, line, col, message) in zip(lines, expected, strict=True):
-        where = re.escape(path) + (f":{line}:{col}" if line is not None else "")
-        assert re.fullmatch(f"{where}: {message}", text), f"{text!r} is not {path}:{line}:{col}: /{message}/"
 
 
 def _check_in_process(capsys, *paths: Path) -> tuple[int, str, str]:
@@ -91,33 +68,35 @@ def test_the_baseline_files_are_valid(write, capsys):
 
 
 # ------------------------------------------------------ unbalanced parens
-def test_missing_close_paren_at_the_end_points_at_the_open_define(write, tidyplan_cmd, tmp_path, position):
+def test_missing_close_paren_at_the_end_points_at_the_open_define(
+    expect_lines, write, tidyplan_cmd, tmp_path, position
+):
     text = DOMAIN.rstrip().removesuffix(")") + "\n"
     write("domain.pddl", text)
     done = _run(tidyplan_cmd, ["check", "domain.pddl"], tmp_path)
     assert done.returncode == 2
     line, col = position(text, "(define")  # line 2: line 1 is a comment
-    _expect_lines(done.stderr, [("domain.pddl", line, col, r"unbalanced parenthesis: .*never closed.*")])
+    expect_lines(done.stderr, [("domain.pddl", line, col, r"unbalanced parenthesis: .*never closed.*")])
 
 
-def test_missing_close_paren_of_a_section_points_at_that_section(write, capsys, position):
+def test_missing_close_paren_of_a_section_points_at_that_section(expect_lines, write, capsys, position):
     """`(:predicates ...` left open: the diagnostic names its line, not the `(define` on line 2."""
     text = DOMAIN.replace("(held ?x - block))\n", "(held ?x - block)\n")
     path = write("domain.pddl", text)
     status, _, err = _check_in_process(capsys, path)
     assert status == 2
     line, col = position(text, "(:predicates")
-    _expect_lines(err, [(str(path), line, col, r"unbalanced parenthesis.*")])
+    expect_lines(err, [(str(path), line, col, r"unbalanced parenthesis.*")])
 
 
-def test_extra_close_paren_points_at_it(write, tidyplan_cmd, tmp_path, position):
+def test_extra_close_paren_points_at_it(expect_lines, write, tidyplan_cmd, tmp_path, position):
     text = DOMAIN + ")\n"
     write("domain.pddl", text)
     done = _run(tidyplan_cmd, ["check", "domain.pddl"], tmp_path)
     assert done.returncode == 2
     line, col = position(text, ")\n", text.count(")\n"))  # the last one, alone on its line
     assert (line, col) == (text.count("\n"), 1)
-    _expect_lines(done.stderr, [("domain.pddl", line, col, r"unbalanced parenthesis: .*closes nothing.*")])
+    expect_lines(done.stderr, [("domain.pddl", line, col, r"unbalanced parenthesis: .*closes nothing.*")])
 
 
 def test_parens_in_comments_do_not_count(write, capsys):
@@ -127,67 +106,69 @@ def test_parens_in_comments_do_not_count(write, capsys):
 
 
 # --------------------------------------------------------- undeclared names
-def test_undeclared_predicate_points_at_its_name(write, tidyplan_cmd, tmp_path, position):
+def test_undeclared_predicate_points_at_its_name(expect_lines, write, tidyplan_cmd, tmp_path, position):
     text = DOMAIN.replace(":precondition (clear ?x)", ":precondition (and (clear ?x) (free ?x))")
     write("domain.pddl", text)
     done = _run(tidyplan_cmd, ["check", "domain.pddl"], tmp_path)
     assert done.returncode == 2
     line, col = position(text, "free ?x")
-    _expect_lines(done.stderr, [("domain.pddl", line, col, r"undeclared predicate 'free'")])
+    expect_lines(done.stderr, [("domain.pddl", line, col, r"undeclared predicate 'free'")])
 
 
-def test_undeclared_type_points_at_what_it_types(write, capsys, position):
+def test_undeclared_type_points_at_what_it_types(expect_lines, write, capsys, position):
     text = DOMAIN.replace("(held ?x - block)", "(held ?h - blok)")
     path = write("domain.pddl", text)
     status, _, err = _check_in_process(capsys, path)
     assert status == 2
     line, col = position(text, "?h - blok")
-    _expect_lines(err, [(str(path), line, col, r"undeclared type 'blok'.*'\?h'.*")])
+    expect_lines(err, [(str(path), line, col, r"undeclared type 'blok'.*'\?h'.*")])
 
 
-def test_undeclared_object_in_a_problem_points_at_its_atom(write, tidyplan_cmd, tmp_path, position):
+def test_undeclared_object_in_a_problem_points_at_its_atom(
+    expect_lines, write, tidyplan_cmd, tmp_path, position
+):
     problem = PROBLEM.replace("(on b1 b2)", "(on b1 b3)")
     write("domain.pddl", DOMAIN)
     write("problem.pddl", problem)
     done = _run(tidyplan_cmd, ["check", "domain.pddl", "problem.pddl"], tmp_path)
     assert done.returncode == 2
     line, col = position(problem, "on b1 b3")
-    _expect_lines(done.stderr, [("problem.pddl", line, col, r"undeclared object 'b3'")])
+    expect_lines(done.stderr, [("problem.pddl", line, col, r"undeclared object 'b3'")])
 
 
-def test_undeclared_object_in_a_goal(write, capsys, position):
+def test_undeclared_object_in_a_goal(expect_lines, write, capsys, position):
     problem = PROBLEM.replace("(:goal (held b1))", "(:goal (held b7))")
     status, _, err = _check_in_process(capsys, write("d.pddl", DOMAIN), path := write("p.pddl", problem))
     assert status == 2
     line, col = position(problem, "held b7")
-    _expect_lines(err, [(str(path), line, col, r"undeclared object 'b7'")])
+    expect_lines(err, [(str(path), line, col, r"undeclared object 'b7'")])
 
 
-def test_wrong_number_of_arguments(write, capsys, position):
+def test_wrong_number_of_arguments(expect_lines, write, capsys, position):
     text = DOMAIN.replace(":precondition (clear ?x)", ":precondition (on ?x)")
     path = write("domain.pddl", text)
     status, _, err = _check_in_process(capsys, path)
     assert status == 2
     line, col = position(text, "on ?x)")
-    _expect_lines(err, [(str(path), line, col, r"'on' takes 2 arguments, given 1")])
+    expect_lines(err, [(str(path), line, col, r"'on' takes 2 arguments, given 1")])
 
 
-def test_wrong_number_of_arguments_in_a_problem(write, capsys, position):
+def test_wrong_number_of_arguments_in_a_problem(expect_lines, write, capsys, position):
     problem = PROBLEM.replace("(clear b1)", "(clear b1 b2)")
     status, _, err = _check_in_process(capsys, write("d.pddl", DOMAIN), path := write("p.pddl", problem))
     assert status == 2
     line, col = position(problem, "clear b1 b2")
-    _expect_lines(err, [(str(path), line, col, r"'clear' takes 1 argument, given 2")])
+    expect_lines(err, [(str(path), line, col, r"'clear' takes 1 argument, given 2")])
 
 
-def test_every_error_gets_its_own_line_in_file_order(write, capsys, position):
+def test_every_error_gets_its_own_line_in_file_order(expect_lines, write, capsys, position):
     text = DOMAIN.replace("(held ?x - block)", "(held ?x - blok)").replace(
         ":precondition (clear ?x)", ":precondition (and (free ?x) (on ?x))"
     )
     path = write("domain.pddl", text)
     status, _, err = _check_in_process(capsys, path)
     assert status == 2
-    _expect_lines(
+    expect_lines(
         err,
         [
             (str(path), *position(text, "?x - blok"), r"undeclared type 'blok'.*"),
@@ -199,7 +180,7 @@ def test_every_error_gets_its_own_line_in_file_order(write, capsys, position):
 
 # ------------------------------------------------------------- extensions
 @pytest.mark.parametrize("value", ["0", "1.5", "-0.2"])
-def test_probability_outside_zero_one_points_at_the_number(write, capsys, position, value):
+def test_probability_outside_zero_one_points_at_the_number(expect_lines, write, capsys, position, value):
     text = DOMAIN.replace(
         "    :precondition (clear ?x)", f"    :probability {value}\n    :precondition (clear ?x)"
     )
@@ -207,7 +188,7 @@ def test_probability_outside_zero_one_points_at_the_number(write, capsys, positi
     status, _, err = _check_in_process(capsys, path)
     assert status == 2
     line, col = position(text, f":probability {value}")
-    _expect_lines(
+    expect_lines(
         err, [(str(path), line, col + len(":probability "), r"probability .* of 'pick' is outside \(0, 1\]")]
     )
 
@@ -219,7 +200,7 @@ def test_probability_one_is_allowed(write, capsys):
 
 
 @pytest.mark.parametrize("value", ["0", "-1", "1.5"])
-def test_stratum_below_one_or_fractional_points_at_the_number(write, capsys, position, value):
+def test_stratum_below_one_or_fractional_points_at_the_number(expect_lines, write, capsys, position, value):
     text = DOMAIN.replace(
         "    :precondition (clear ?x)", f"    :stratum {value}\n    :precondition (clear ?x)"
     )
@@ -227,10 +208,12 @@ def test_stratum_below_one_or_fractional_points_at_the_number(write, capsys, pos
     status, _, err = _check_in_process(capsys, path)
     assert status == 2
     line, col = position(text, f":stratum {value}")
-    _expect_lines(err, [(str(path), line, col + len(":stratum "), r"stratum of 'pick' must be .*at least 1")])
+    expect_lines(err, [(str(path), line, col + len(":stratum "), r"stratum of 'pick' must be .*at least 1")])
 
 
-def test_assumption_with_a_cost_effect_points_at_the_increase(write, tidyplan_cmd, tmp_path, position):
+def test_assumption_with_a_cost_effect_points_at_the_increase(
+    expect_lines, write, tidyplan_cmd, tmp_path, position
+):
     text = _domain_with(
         ACTION.removesuffix(")\n") + "\n  (:assumption guess\n"
         "    :parameters (?x - block)\n"
@@ -241,11 +224,11 @@ def test_assumption_with_a_cost_effect_points_at_the_increase(write, tidyplan_cm
     done = _run(tidyplan_cmd, ["check", "domain.pddl"], tmp_path)
     assert done.returncode == 2
     line, col = position(text, "increase (total-cost) 1", 2)
-    _expect_lines(done.stderr, [("domain.pddl", line, col, r"assumption 'guess' has a cost effect.*")])
+    expect_lines(done.stderr, [("domain.pddl", line, col, r"assumption 'guess' has a cost effect.*")])
 
 
 def test_extension_without_its_requirement_flag_is_a_warning_not_an_error(
-    write, tidyplan_cmd, tmp_path, position
+    expect_lines, write, tidyplan_cmd, tmp_path, position
 ):
     text = DOMAIN.replace(" :probabilities", "").replace(
         "    :precondition (clear ?x)", "    :probability 0.9\n    :precondition (clear ?x)"
@@ -255,171 +238,65 @@ def test_extension_without_its_requirement_flag_is_a_warning_not_an_error(
     assert done.returncode == 0, done.stderr
     assert "domain.pddl: ok" in done.stdout
     line, col = position(text, "pick")
-    _expect_lines(done.stderr, [("domain.pddl", line, col, r"warning: .*:probabilities.*")])
+    expect_lines(done.stderr, [("domain.pddl", line, col, r"warning: .*:probabilities.*")])
 
 
 # ------------------------------------------------------------- not PDDL
-def test_binary_file(write, tidyplan_cmd, tmp_path):
+def test_binary_file(expect_lines, write, tidyplan_cmd, tmp_path):
     write("domain.pddl", b"\x7fELF\x02\x01\x01\x00\x00\x00(define")
     done = _run(tidyplan_cmd, ["check", "domain.pddl"], tmp_path)
     assert done.returncode == 2
-    _expect_lines(done.stderr, [("domain.pddl", None, None, r".*binary.*")])
+    expect_lines(done.stderr, [("domain.pddl", None, None, r".*binary.*")])
 
 
-def test_missing_file(tmp_path, capsys):
+def test_missing_file(expect_lines, tmp_path, capsys):
     path = tmp_path / "nowhere.pddl"
     status, _, err = _check_in_process(capsys, path)
     assert status == 2
-    _expect_lines(err, [(str(path), None, None, r"no such file")])
+    expect_lines(err, [(str(path), None, None, r"no such file")])
 
 
-def test_missing_problem_file(write, tmp_path, capsys):
+def test_missing_problem_file(expect_lines, write, tmp_path, capsys):
     path = tmp_path / "nowhere.pddl"
     status, _, err = _check_in_process(capsys, write("domain.pddl", DOMAIN), path)
     assert status == 2
-    _expect_lines(err, [(str(path), None, None, r"no such file")])
+    expect_lines(err, [(str(path), None, None, r"no such file")])
 
 
-def test_directory_given_as_a_file(tmp_path, capsys):
+def test_directory_given_as_a_file(expect_lines, tmp_path, capsys):
     (tmp_path / "dir.pddl").mkdir()
     status, _, err = _check_in_process(capsys, tmp_path / "dir.pddl")
     assert status == 2
-    _expect_lines(err, [(str(tmp_path / "dir.pddl"), None, None, r".*directory.*")])
+    expect_lines(err, [(str(tmp_path / "dir.pddl"), None, None, r".*directory.*")])
 
 
-def test_syntax_error_points_at_the_unexpected_token(write, capsys, position):
+def test_syntax_error_points_at_the_unexpected_token(expect_lines, write, capsys, position):
     text = DOMAIN.replace(":parameters (?x - block)", ":parameters (?x - )")
     path = write("domain.pddl", text)
     status, _, err = _check_in_process(capsys, path)
     assert status == 2
     line, col = position(text, "?x - )")
-    _expect_lines(err, [(str(path), line, col + len("?x - "), r"unexpected '\)'.*")])
+    expect_lines(err, [(str(path), line, col + len("?x - "), r"unexpected '\)'.*")])
 
 
-def test_problem_given_where_a_domain_is_expected(write, capsys):
+def test_problem_given_where_a_domain_is_expected(expect_lines, write, capsys):
     path = write("problem.pddl", PROBLEM)
     status, _, err = _check_in_process(capsys, path, path)
     assert status == 2
-    _expect_lines(err, [(str(path), 1, 1, r"expected a domain, found a problem")])
+    expect_lines(err, [(str(path), 1, 1, r"expected a domain, found a problem")])
 
 
-def test_domain_given_where_a_problem_is_expected(write, capsys):
+def test_domain_given_where_a_problem_is_expected(expect_lines, write, capsys):
     path = write("domain.pddl", DOMAIN)
     status, _, err = _check_in_process(capsys, path, path)
     assert status == 2
-    _expect_lines(err, [(str(path), 2, 1, r"expected a problem, found a domain")])
+    expect_lines(err, [(str(path), 2, 1, r"expected a problem, found a domain")])
 
 
-def test_problem_given_as_domain_after_a_comment_points_at_its_define(write, capsys, position):
+def test_problem_given_as_domain_after_a_comment_points_at_its_define(expect_lines, write, capsys, position):
     text = ";; p: a problem, with a header comment\n\n" + PROBLEM
     path = write("problem.pddl", text)
     status, _, err = _check_in_process(capsys, path)
     assert status == 2
     line, col = position(text, "(define")
-    _expect_lines(err, [(str(path), line, col, r"expected a domain, found a problem")])
-
-
-# ---------------------------------------------------------------- compile
-def _compile(capsys, domain: Path, problem: Path, out: Path, *extra: str) -> tuple[int, str]:
-    status = main(["compile", str(domain), str(problem), "--out", str(out), *extra])
-    return status, capsys.readouterr().err
-
-
-def test_compile_refuses_to_overwrite_an_input_file(write, tmp_path, capsys):
-    domain, problem = write("domain.pddl", DOMAIN), write("problem.pddl", PROBLEM)
-    status, err = _compile(capsys, domain, problem, tmp_path)
-    assert status == 2
-    _expect_lines(err, [(str(domain), None, None, r".*input file.*")])
-    assert (domain.read_text(), problem.read_text()) == (DOMAIN, PROBLEM)
-
-
-def test_compile_refuses_to_overwrite_an_input_problem_file(write, tmp_path, capsys):
-    """The problem input sits where the compiled problem would go."""
-    domain, problem = write("in/d.pddl", DOMAIN), write("out/problem.pddl", PROBLEM)
-    status, err = _compile(capsys, domain, problem, tmp_path / "out")
-    assert status == 2
-    assert "input file" in err and "Traceback" not in err
-    assert problem.read_text() == PROBLEM
-    assert not (tmp_path / "out" / "domain.pddl").exists()
-
-
-def test_compile_refuses_a_foreign_file_and_leaves_it_as_it_was(write, tmp_path, capsys):
-    domain, problem = write("d.pddl", DOMAIN), write("p.pddl", PROBLEM)
-    foreign = write("out/domain.pddl", "my own notes\n")
-    status, err = _compile(capsys, domain, problem, tmp_path / "out")
-    assert status == 2
-    _expect_lines(err, [(str(foreign), None, None, r".*not written by tidyplan.*")])
-    assert foreign.read_text() == "my own notes\n"
-    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["domain.pddl"]
-
-
-def test_compile_writes_nothing_when_one_target_is_foreign(write, tmp_path, capsys):
-    domain, problem = write("d.pddl", DOMAIN), write("p.pddl", PROBLEM)
-    foreign = write("out/problem.pddl", "(define (problem mine))\n")
-    status, _ = _compile(capsys, domain, problem, tmp_path / "out")
-    assert status == 2
-    assert foreign.read_text() == "(define (problem mine))\n"
-    assert not (tmp_path / "out" / "domain.pddl").exists()
-
-
-def test_compile_overwrites_its_own_previous_output(write, tmp_path, capsys):
-    domain, problem = write("d.pddl", DOMAIN), write("p.pddl", PROBLEM)
-    out = tmp_path / "out"
-    assert _compile(capsys, domain, problem, out) == (0, "")
-    first = (out / "problem.pddl").read_text()
-    problem.write_text(PROBLEM.replace("b1 b2 - block", "b1 b2 b3 - block"))
-    assert _compile(capsys, domain, problem, out) == (0, "")
-    second = (out / "problem.pddl").read_text()
-    assert "b3" not in first and "b3" in second
-    assert sorted(p.name for p in out.iterdir()) == ["domain.pddl", "problem.pddl"]
-
-
-def test_compile_does_not_touch_other_files_in_the_output_folder(write, tmp_path, capsys):
-    domain, problem = write("d.pddl", DOMAIN), write("p.pddl", PROBLEM)
-    bystander = write("out/domain.pddl.tmp", "someone else's file\n")
-    status, _ = _compile(capsys, domain, problem, tmp_path / "out")
-    assert status == 0
-    assert bystander.exists() and bystander.read_text() == "someone else's file\n"
-
-
-def test_compile_out_that_is_a_file_is_bad_input_not_a_traceback(write, tmp_path, tidyplan_cmd):
-    write("d.pddl", DOMAIN)
-    write("p.pddl", PROBLEM)
-    write("taken", "a file, not a folder\n")
-    done = _run(tidyplan_cmd, ["compile", "d.pddl", "p.pddl", "--out", "taken"], tmp_path)
-    assert done.returncode == 2
-    assert "Traceback" not in done.stderr
-    assert len(done.stderr.splitlines()) == 1, done.stderr
-    assert (tmp_path / "taken").read_text() == "a file, not a folder\n"
-
-
-# ---------------------------------------------------------------- options
-@pytest.mark.parametrize(
-    ("args", "message"),
-    [
-        (["plan", "d.pddl", "p.pddl", "--time-budget", "-1"], r"tidyplan plan: error: .*--time-budget.*"),
-        (["plan", "d.pddl", "p.pddl", "--time-budget", "nan"], r"tidyplan plan: error: .*--time-budget.*"),
-        (["plan", "d.pddl", "p.pddl", "--max-stratum", "0"], r"tidyplan plan: error: .*--max-stratum.*"),
-        (
-            ["compile", "d.pddl", "p.pddl", "--out", "o", "--max-stratum", "0"],
-            r"tidyplan compile: error: .*--max-stratum.*",
-        ),
-        (["plan", "d.pddl", "p.pddl", "--planner", "no-such-planner"], r"tidyplan: .*no-such-planner.*"),
-    ],
-    ids=[
-        "time-budget-negative",
-        "time-budget-nan",
-        "max-stratum-0",
-        "compile-max-stratum-0",
-        "unknown-planner",
-    ],
-)
-def test_bad_option_is_one_line_and_exit_2(write, tmp_path, tidyplan_cmd, args, message):
-    write("d.pddl", DOMAIN)
-    write("p.pddl", PROBLEM)
-    done = _run(tidyplan_cmd, args, tmp_path)
-    assert done.returncode == 2
-    assert "Traceback" not in done.stderr
-    assert len(done.stderr.splitlines()) == 1, done.stderr
-    assert re.fullmatch(message, done.stderr.strip()), done.stderr
-    assert not (tmp_path / "o").exists()
+    expect_lines(err, [(str(path), line, col, r"expected a domain, found a problem")])

@@ -128,17 +128,7 @@ class _Renamer:
         return replace(a, predicate=self.names[("predicate", a.predicate)])
 
     def formula(self, f: m.Formula) -> m.Formula:
-        if isinstance(f, m.Atom):
-            return self.atom(f)
-        if isinstance(f, m.And):
-            return m.And(tuple(self.formula(p) for p in f.parts))
-        if isinstance(f, m.Or):
-            return m.Or(tuple(self.formula(p) for p in f.parts))
-        if isinstance(f, m.Not):
-            return m.Not(self.formula(f.part))
-        if isinstance(f, m.Imply):
-            return m.Imply(self.formula(f.condition), self.formula(f.consequence))
-        return type(f)(self.typed(f.variables), self.formula(f.body))
+        return m.map_formula(f, self.atom, lambda q, body: type(q)(self.typed(q.variables), body))
 
     def effect(self, e: m.Effect) -> m.Effect:
         """Renamed, with every `increase` left out (costs are compiled apart)."""

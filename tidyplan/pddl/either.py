@@ -72,24 +72,15 @@ class _Rewrite:
         return tuple(out), conditions
 
     def formula(self, f: m.Formula) -> m.Formula:
-        if isinstance(f, m.And):
-            return m.And(tuple(self.formula(p) for p in f.parts))
-        if isinstance(f, m.Or):
-            return m.Or(tuple(self.formula(p) for p in f.parts))
-        if isinstance(f, m.Not):
-            return m.Not(self.formula(f.part))
-        if isinstance(f, m.Imply):
-            return m.Imply(self.formula(f.condition), self.formula(f.consequence))
-        if isinstance(f, m.Exists):
-            variables, conditions = self.plain(f.variables)
-            return m.Exists(
-                variables, m.And((*conditions, self.formula(f.body))) if conditions else self.formula(f.body)
-            )
-        if isinstance(f, m.Forall):
-            variables, conditions = self.plain(f.variables)
-            body = self.formula(f.body)
-            return m.Forall(variables, m.Imply(m.And(tuple(conditions)), body) if conditions else body)
-        return f
+        return m.map_formula(f, lambda a: a, self._quantified)
+
+    def _quantified(self, q: m.Exists | m.Forall, body: m.Formula) -> m.Formula:
+        variables, conditions = self.plain(q.variables)
+        if not conditions:
+            return type(q)(variables, body)
+        if isinstance(q, m.Exists):
+            return m.Exists(variables, m.And((*conditions, body)))
+        return m.Forall(variables, m.Imply(m.And(tuple(conditions)), body))
 
     def effect(self, e: m.Effect) -> m.Effect:
         if isinstance(e, m.AndEffect):

@@ -84,6 +84,20 @@ Formula = Atom | And | Or | Not | Imply | Exists | Forall
 TRUE = And(())
 
 
+def map_formula(f: Formula, atom, quantified) -> Formula:
+    """Rebuild a formula bottom-up: `atom(a)` for each atom, and
+    `quantified(q, body)` for each `exists`/`forall`, given its rebuilt body."""
+    if isinstance(f, Atom):
+        return atom(f)
+    if isinstance(f, (And, Or)):
+        return type(f)(tuple(map_formula(p, atom, quantified) for p in f.parts))
+    if isinstance(f, Not):
+        return Not(map_formula(f.part, atom, quantified))
+    if isinstance(f, Imply):
+        return Imply(map_formula(f.condition, atom, quantified), map_formula(f.consequence, atom, quantified))
+    return quantified(f, map_formula(f.body, atom, quantified))
+
+
 # ------------------------------------------------------------------- effects
 @dataclass(frozen=True, slots=True)
 class FunctionTerm:
