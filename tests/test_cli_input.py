@@ -12,26 +12,9 @@ import pytest
 
 from tidyplan.cli import main
 
-DOMAIN = """\
-; a small domain for bad-input tests
-(define (domain d)
-  (:requirements :typing :action-costs :probabilities :assumptions :strata)
-  (:types block)
-  (:predicates (clear ?x - block) (on ?x ?y - block) (held ?x - block))
-  (:functions (total-cost) - number)
-  (:action pick
-    :parameters (?x - block)
-    :precondition (clear ?x)
-    :effect (and (held ?x) (not (clear ?x)) (increase (total-cost) 1))))
-"""
-
-PROBLEM = """\
-(define (problem p)
-  (:domain d)
-  (:objects b1 b2 - block)
-  (:init (clear b1) (on b1 b2))
-  (:goal (held b1)))
-"""
+# A valid task that each test breaks in one place (tests/data, shared with test_bad_input.py).
+DOMAIN = (Path(__file__).parent / "data" / "baseline-domain.pddl").read_text()
+PROBLEM = (Path(__file__).parent / "data" / "baseline-problem.pddl").read_text()
 
 
 def _run(cmd: list[str], args: list[str], cwd: Path) -> subprocess.CompletedProcess:

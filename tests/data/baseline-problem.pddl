@@ -1,0 +1,5 @@
+(define (problem p)
+  (:domain d)
+  (:objects b1 b2 - block)
+  (:init (clear b1) (on b1 b2))
+  (:goal (held b1)))
