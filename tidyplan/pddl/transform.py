@@ -51,9 +51,6 @@ class Build(Transformer):
     def REQUIREMENT(self, t):
         return t.update(value=t.value.lower())
 
-    def NUMBER(self, t):
-        return t
-
     # ------------------------------------------------------------ typing
     def type_marker(self, c):
         return tuple(str(x) for x in c[0]) if isinstance(c[0], list) else (str(c[0]),)
