@@ -114,10 +114,11 @@ def test_readme_opens_with_exactly_two_commands():
 
 
 @pytest.mark.slow
-def test_readmes_main_command_runs():
+def test_readmes_main_command_runs(tidyplan_cmd):
     """The part after the install: the installed package is already under test."""
-    command = _readme_commands()[0].split("&&", 1)[1].strip()
-    done = subprocess.run(shlex.split(command), cwd=ROOT, capture_output=True, text=True, timeout=120)
+    command = shlex.split(_readme_commands()[0].split("&&", 1)[1].strip())
+    assert command[0] == "tidyplan"
+    done = subprocess.run(tidyplan_cmd + command[1:], cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert "drop_object" in done.stdout and "stratum P3" in done.stdout
 

@@ -107,7 +107,7 @@ def test_presets_name_unified_planning_engines():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("signum, status", [("SIGINT", 130), ("SIGTERM", 143), ("SIGHUP", 129)])
-def test_a_signal_mid_search_stops_tidyplan_and_its_engine(signum, status, tmp_path):
+def test_a_signal_mid_search_stops_tidyplan_and_its_engine(signum, status, tmp_path, tidyplan_cmd):
     """Ctrl-C, `kill`, a closed terminal: one line, exit 128 + signal, no engine left running."""
     import signal
     import subprocess
@@ -116,7 +116,7 @@ def test_a_signal_mid_search_stops_tidyplan_and_its_engine(signum, status, tmp_p
     problem.write_text(tidygen.generate(1))
     before = _engine_processes(SEARCH_BINARY)
     run = subprocess.Popen(
-        ["tidyplan", "plan", str(ROOT / "domains" / "tidy.pddl"), str(problem), "--time-budget", "60"],
+        [*tidyplan_cmd, "plan", str(ROOT / "domains" / "tidy.pddl"), str(problem), "--time-budget", "60"],
         cwd=tmp_path,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
