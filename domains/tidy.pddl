@@ -25,15 +25,21 @@
 ;; as certain.
 ;;
 ;; Static facts a problem provides: path, distance, blocks, pose-adjustment,
-;; removal-waypoint, deposit-at, of-category, accepts.
-;; Dynamic: robot-at, hand-empty, holding, item-at, blocked, tidied, must-move-back.
+;; removal-waypoint, deposit-at, of-category, accepts, unexplored, p-item-near.
+;; Dynamic: robot-at, hand-empty, holding, item-at, blocked, tidied, must-move-back,
+;; located.
+;; (removal-waypoint ?o ?w): Algorithm 1 run from where ?o is taken (its grasp waypoint):
+;; the nearest waypoint already reached that is neither for grasping nor for delivery.
+;; Partial observability: items seen so far are (located ...); items not yet seen are
+;; virtual objects of the problem, of a known category (the room holds 3 of each), and
+;; get a place only through assume-item-near.
 ;; An item's floor position obstructs the paths it `blocks` while it lies there: the
 ;; problem lists those paths as `blocked` in :init, and taking the item clears them.
 ;; Dropping an item back at the removal waypoint is chosen so as not to block anything.
 
 (define (domain tidy)
   (:requirements :typing :equality :negative-preconditions :conditional-effects
-                 :action-costs :probabilities :strata)
+                 :action-costs :probabilities :strata :assumptions)
 
   (:types waypoint item deposit category)
 
@@ -50,12 +56,26 @@
     (blocked ?from ?to - waypoint)               ; a floor item obstructs that path now
     (blocks ?o - item ?from ?to - waypoint)      ; static: ?o is that obstruction
     (pose-adjustment ?from ?to - waypoint)       ; an ego-pose adjustment reaches ?to
-    (removal-waypoint ?w - waypoint)             ; the waypoint Algorithm 1 chose
-    (must-move-back))                            ; set by drop_object until move_back
+    (removal-waypoint ?o - item ?w - waypoint)   ; Algorithm 1's choice, from where ?o is taken
+    (must-move-back)                             ; set by drop_object until move_back
+    (located ?o - item)                          ; where ?o lies is known or assumed
+    (unexplored ?w - waypoint))                  ; nobody has looked around from ?w yet
 
   (:functions
     (total-cost) - number
-    (distance ?from ?to - waypoint) - number)    ; path length k(x,y), metres
+    (distance ?from ?to - waypoint) - number     ; path length k(x,y), metres
+    (p-item-near ?w - waypoint) - number)        ; P(an unseen item is found from ?w)
+
+  ;; ------------------------------------------------------------- assumption
+  ;; An item not yet seen (a virtual object of the problem) is assumed to be found and
+  ;; grasped from a waypoint nobody has looked around from, with the probability the
+  ;; problem gives (Goebelbecker's Definition 1: X = where ?o is, "not yet known" is
+  ;; (not (located ?o))). Never executed: the monitor checks it against what is seen.
+  (:assumption assume-item-near
+    :parameters (?o - item ?w - waypoint)
+    :probability (p-item-near ?w)
+    :precondition (and (not (located ?o)) (unexplored ?w))
+    :effect (and (located ?o) (item-at ?o ?w)))
 
   ;; ------------------------------------------------------------- stratum 1 (P1)
   (:action move
@@ -113,7 +133,7 @@
     :parameters (?o - item ?w - waypoint)
     :stratum 3
     :probability 0.98
-    :precondition (and (robot-at ?w) (removal-waypoint ?w) (holding ?o))
+    :precondition (and (robot-at ?w) (removal-waypoint ?o ?w) (holding ?o))
     :effect (and (item-at ?o ?w)
                  (hand-empty)
                  (not (holding ?o))

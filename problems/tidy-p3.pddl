@@ -32,7 +32,7 @@
     (deposit-at tray1 wp-tray) (accepts tray1 food)
     (deposit-at container-a wp-container) (accepts container-a kitchen)
     ;; no deposit accepts `unknown` here (bin B is absent from this scenario)
-    (removal-waypoint wp-removal)
+    (removal-waypoint ob wp-removal)
     ;; ob lies on the floor in the gap that is the only way to and from wp-o1
     (blocks ob wp-entrance wp-o1) (blocked wp-entrance wp-o1)
     (blocks ob wp-removal wp-o1) (blocked wp-removal wp-o1)

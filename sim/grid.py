@@ -83,6 +83,7 @@ class OccupancyGrid:
         self.shape = (round((x1 - x0) / cell), round((y1 - y0) / cell))
         self.mask = self._free_mask()
         self.graph = self._graph()
+        self._lengths: dict[Cell, dict[Cell, float]] = {}
 
     # ------------------------------------------------------------------ cells and points
     def xy(self, i: int, j: int) -> Point:
@@ -132,9 +133,17 @@ class OccupancyGrid:
             if not self._free_cell(c):
                 rows.append([None] * len(cells))
                 continue
-            lengths = nx.single_source_dijkstra_path_length(self.graph, c, weight="weight")
+            lengths = self._from(c)
             rows.append([lengths.get(d) for d in cells])
         return rows
+
+    def lengths_from(self, a: Point, points: Sequence[Point]) -> list[float | None]:
+        """``path_length`` from a to each of ``points``, with one Dijkstra."""
+        ca = self.cell(*a)
+        if not self._free_cell(ca):
+            return [None] * len(points)
+        lengths = self._from(ca)
+        return [lengths.get(self.cell(*p)) for p in points]
 
     def path(self, a: Point, b: Point) -> list[Point] | None:
         """A shortest path as the polyline of cell centres from a's cell to b's (both included),
@@ -153,6 +162,13 @@ class OccupancyGrid:
         return OccupancyGrid(
             self.bounds, self.obstacles + tuple(boxes), cell=self.cell_size, radius=self.radius
         )
+
+    def _from(self, c: Cell) -> dict[Cell, float]:
+        """Path lengths from cell c to every cell it reaches; remembered, since the grid never
+        changes and a mission asks from the same waypoints again and again."""
+        if c not in self._lengths:
+            self._lengths[c] = nx.single_source_dijkstra_path_length(self.graph, c, weight="weight")
+        return self._lengths[c]
 
     # ------------------------------------------------------------------ construction
     def _free_cell(self, c: Cell) -> bool:

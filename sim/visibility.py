@@ -1,0 +1,143 @@
+"""Line of sight in 3-D against axis-aligned boxes: which items the head camera can see from where.
+
+Why boxes and segments: the scenarios hide items behind or under furniture on purpose, and the
+symbolic world must agree with the pybullet one on what a look can reveal. Furniture and items
+are boxes there too, so a segment from the camera to a point on the target, tested against every
+other box, is the same geometry without a renderer. It is deliberately coarse: one point per
+target (the centre of its top), no partial visibility, no detector noise (that is the sensing
+model's false negatives, applied by the caller).
+
+Conventions relied on by callers:
+- a box is closed: a segment that only grazes a face or an edge is blocked, so a target exactly
+  level with a table top behind it is not seen;
+- the head pans, so ``visible`` ignores the horizontal field of view; ``in_field_of_view`` is
+  there for callers that fix the heading;
+- results depend on the inputs alone: names come back in the scenario's item order.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, replace
+
+from sim.scenario import Furniture, Item, Scenario
+
+Point3 = tuple[float, float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class Box3:
+    """An axis-aligned box [x0, x1] × [y0, y1] × [z0, z1] in metres; ``name`` is for people."""
+
+    x0: float
+    x1: float
+    y0: float
+    y1: float
+    z0: float
+    z1: float
+    name: str = ""
+
+    @classmethod
+    def from_furniture(cls, f: Furniture) -> Box3:
+        """A furniture piece standing on the floor: z from 0 to its height."""
+        return cls(f.cx - f.sx / 2, f.cx + f.sx / 2, f.cy - f.sy / 2, f.cy + f.sy / 2, 0.0, f.height, f.name)
+
+    @classmethod
+    def from_item(cls, item: Item, base_z: float) -> Box3:
+        """An item whose base is at ``base_z`` (``Scenario.item_base_z``, or where it was moved)."""
+        hx, hy = item.sx / 2, item.sy / 2
+        return cls(item.x - hx, item.x + hx, item.y - hy, item.y + hy, base_z, base_z + item.sz, item.name)
+
+
+def segment_hits_box(p: Sequence[float], q: Sequence[float], box: Box3) -> bool:
+    """Whether the segment p→q meets the closed box (slab test; touching counts as a hit).
+
+    Plain floats, not numpy: a handful of boxes per ray, and no rounding differences between
+    a scalar and a vector path to make two runs disagree.
+    """
+    t0, t1 = 0.0, 1.0
+    for a, b, lo, hi in zip(p, q, (box.x0, box.y0, box.z0), (box.x1, box.y1, box.z1), strict=True):
+        d = b - a
+        if d == 0.0:
+            if a < lo or a > hi:  # parallel to this slab and outside it
+                return False
+            continue
+        ta, tb = (lo - a) / d, (hi - a) / d
+        if ta > tb:
+            ta, tb = tb, ta
+        t0, t1 = max(t0, ta), min(t1, tb)
+        if t0 > t1:
+            return False
+    return True
+
+
+def visible(
+    camera: Point3, target: Point3, occluders: Sequence[Box3], *, range_min: float, range_max: float
+) -> bool:
+    """Whether ``target`` lies within [range_min, range_max] of ``camera`` (3-D distance) with no
+    occluder on the segment between them. The caller leaves out the target's own box and the box
+    it stands on: the segment ends on them."""
+    if not range_min <= math.dist(camera, target) <= range_max:
+        return False
+    return not any(segment_hits_box(camera, target, b) for b in occluders)
+
+
+def in_field_of_view(
+    camera_xy: tuple[float, float], heading_rad: float, target_xy: tuple[float, float], fov_h_deg: float
+) -> bool:
+    """Whether the bearing to ``target_xy`` is within half the horizontal field of view of the
+    heading (edges included); a target at the camera's own (x, y) counts as in view."""
+    dx, dy = target_xy[0] - camera_xy[0], target_xy[1] - camera_xy[1]
+    if dx == 0.0 and dy == 0.0:
+        return True
+    off = (math.atan2(dy, dx) - heading_rad + math.pi) % (2 * math.pi) - math.pi
+    return abs(off) <= math.radians(fov_h_deg) / 2
+
+
+def visible_items(
+    scenario: Scenario,
+    camera_xy: tuple[float, float],
+    items: Iterable[str] | None = None,
+    moved: Mapping[str, Point3 | None] | None = None,
+) -> list[str]:
+    """Names of the items seen from a camera at (x, y, sensing.camera_height), in scenario order.
+
+    ``items`` restricts which items are tested (default all); every item still occludes the
+    others. ``moved`` maps an item's name to where its base centre now is, (x, y, base_z), or to
+    None when it is out of the room's geometry (held by the robot): then it is neither tested nor
+    an occluder. Each target is the centre of the item's top; occluders are all furniture and all
+    other items, except the furniture whose top the item stands on (its footprint holds the
+    item's (x, y) and its height is the item's base_z). Unknown names raise KeyError.
+    """
+    moved = moved or {}
+    names = [i.name for i in scenario.items]
+    wanted = set(names) if items is None else set(items)
+    unknown = sorted((wanted | set(moved)) - set(names))
+    if unknown:
+        raise KeyError(f"no item named {', '.join(map(repr, unknown))} in {scenario.path}")
+    placed: dict[str, tuple[Item, float]] = {}  # name -> (item at its current x, y; base_z)
+    for item in scenario.items:
+        if item.name not in moved:
+            placed[item.name] = (item, scenario.item_base_z(item))
+        elif (where := moved[item.name]) is not None:
+            placed[item.name] = (replace(item, x=where[0], y=where[1]), where[2])
+    furniture = [Box3.from_furniture(f) for f in scenario.furniture]
+    item_boxes = {n: Box3.from_item(i, z) for n, (i, z) in placed.items()}
+    s = scenario.sensing
+    camera = (camera_xy[0], camera_xy[1], s.camera_height)
+    seen = []
+    for name, (item, base_z) in placed.items():
+        if name not in wanted:
+            continue
+        occluders = [b for b in furniture if not _stands_on(item, base_z, b)]
+        occluders += [b for n, b in item_boxes.items() if n != name]
+        target = (item.x, item.y, base_z + item.sz)
+        if visible(camera, target, occluders, range_min=s.range_min, range_max=s.range_max):
+            seen.append(name)
+    return seen
+
+
+def _stands_on(item: Item, base_z: float, box: Box3) -> bool:
+    """Whether the item's base centre lies on the box's top face."""
+    return abs(box.z1 - base_z) < 1e-9 and box.x0 <= item.x <= box.x1 and box.y0 <= item.y <= box.y1

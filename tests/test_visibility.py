@@ -1,0 +1,144 @@
+"""sim.visibility: segments against boxes, range limits, and which scenario items a look sees."""
+
+import math
+
+import pytest
+
+from sim.scenario import Furniture, Item, loads
+from sim.visibility import Box3, in_field_of_view, segment_hits_box, visible, visible_items
+
+CAMERA = (0.0, 0.0, 1.0)
+TARGET = (2.0, 0.0, 0.5)  # 2.06 m away; the ray is at z 0.75 over x = 1
+WALL = Box3(0.9, 1.1, -0.5, 0.5, 0.0, 1.2, "wall")  # taller than the ray
+LOW = Box3(0.9, 1.1, -0.5, 0.5, 0.0, 0.7, "low")  # lower than the ray there
+RANGE = {"range_min": 0.8, "range_max": 3.5}
+
+
+def test_box3_from_furniture_and_item():
+    f = Furniture("table", 1.0, 2.0, 0.4, 1.2, 0.4, "table")
+    assert Box3.from_furniture(f) == Box3(0.8, 1.2, 1.4, 2.6, 0.0, 0.4, "table")
+    i = Item("cup", "kitchen", 1.0, 2.0, "table", 0.25, 0.5, 0.25)
+    assert Box3.from_item(i, 0.5) == Box3(0.875, 1.125, 1.75, 2.25, 0.5, 0.75, "cup")
+
+
+def test_segment_hits_box():
+    assert segment_hits_box(CAMERA, TARGET, WALL)
+    assert not segment_hits_box(CAMERA, TARGET, LOW)
+    assert not segment_hits_box(CAMERA, (0.5, 0.0, 1.0), WALL)  # stops short of the box
+    assert not segment_hits_box(CAMERA, TARGET, Box3(0.9, 1.1, 0.1, 0.5, 0.0, 2.0))  # beside the ray
+    assert segment_hits_box(CAMERA, (1.0, 0.0, 1.0), WALL)  # ends inside
+    assert segment_hits_box((1.0, 0.0, 1.3), (1.0, 0.0, 0.0), WALL)  # vertical, parallel to 4 faces
+    assert not segment_hits_box((0.0, 0.0, 1.0), (2.0, 0.0, 1.0), LOW)  # horizontal, above
+    assert segment_hits_box((0.0, 0.0, 0.7), (2.0, 0.0, 0.7), LOW)  # grazes the top: closed box
+
+
+def test_visible_blocked_by_tall_box_not_by_low_one():
+    assert not visible(CAMERA, TARGET, [WALL], **RANGE)
+    assert visible(CAMERA, TARGET, [LOW], **RANGE)
+    assert visible(CAMERA, TARGET, [], **RANGE)
+
+
+def test_visible_range():
+    assert not visible(CAMERA, (0.5, 0.0, 0.6), [], **RANGE)  # 0.64 m: too near
+    assert not visible(CAMERA, (4.0, 0.0, 0.5), [], **RANGE)  # 4.03 m: too far
+    assert visible(CAMERA, (0.8, 0.0, 1.0), [], **RANGE)  # both limits included
+    assert visible(CAMERA, (3.5, 0.0, 1.0), [], **RANGE)
+
+
+def test_in_field_of_view():
+    assert in_field_of_view((0.0, 0.0), 0.0, (1.0, 0.5), 58.0)  # 26.6 deg off
+    assert not in_field_of_view((0.0, 0.0), 0.0, (1.0, 0.6), 58.0)  # 31.0 deg off
+    assert in_field_of_view((0.0, 0.0), math.pi, (-1.0, -0.1), 58.0)  # across the +-180 seam
+    assert not in_field_of_view((0.0, 0.0), math.pi / 2, (1.0, 0.0), 58.0)
+    assert in_field_of_view((1.0, 1.0), 0.0, (1.0, 1.0), 58.0)
+
+
+ROOM = """\
+schema = 1
+name = "vis"
+title = "Visibility"
+
+[room]
+bounds = [0.0, 6.0, 0.0, 4.0]
+entrance = [0.5, 2.0]
+
+[sensing]
+camera_height = 1.0
+range_min = 1.0
+
+[[furniture]]
+name = "shelf"
+center = [3.0, 3.0]
+size = [0.6, 1.0]
+height = 1.8
+kind = "shelf"
+
+[[furniture]]
+name = "cabinet"
+center = [2.0, 1.2]
+size = [0.2, 1.2]
+height = 1.5
+kind = "shelf"
+
+[[deposit]]
+name = "bin"
+category = "toy"
+position = [5.5, 3.5, 0.0]
+
+[[item]]
+name = "top"
+category = "toy"
+position = [3.0, 3.0]
+on = "shelf"
+
+[[item]]
+name = "hidden"
+category = "toy"
+position = [3.0, 1.0]
+
+[[item]]
+name = "open"
+category = "toy"
+position = [3.0, 2.0]
+
+[[item]]
+name = "post"
+category = "toy"
+position = [5.0, 0.5]
+size = [0.1, 0.1, 1.5]
+"""
+
+
+@pytest.fixture(scope="module")
+def room():
+    return loads(ROOM, "vis.toml")
+
+
+def test_visible_items(room):
+    # from (1, 2): "top" stands on a shelf taller than the camera, so the ray climbs through the
+    # shelf's box and only leaving that box out lets it be seen; "hidden" is behind the cabinet;
+    # "post" is 4.3 m away
+    assert visible_items(room, (1.0, 2.0)) == ["top", "open"]
+    assert visible_items(room, (1.0, 2.0), items=["hidden", "open"]) == ["open"]
+    assert visible_items(room, (3.0, 0.1)) == ["top", "hidden", "open", "post"]  # cabinet not between
+    assert visible_items(room, (3.0, 2.0)) == ["top", "hidden", "post"]  # "open" 0.9 m below: too near
+
+
+def test_supporting_shelf_is_left_out(room):
+    # the ray from (1, 2, 1) to the top of "top" (3, 3, 1.9) enters the 1.8 m shelf below its top
+    camera, target = (1.0, 2.0, 1.0), (3.0, 3.0, 1.9)
+    shelf = Box3.from_furniture(room.furniture_named("shelf"))
+    assert segment_hits_box(camera, target, shelf)
+    assert not visible(camera, target, [shelf], range_min=1.0, range_max=3.5)
+    assert "top" in visible_items(room, (1.0, 2.0))
+
+
+def test_visible_items_moved(room):
+    # the cabinet is out of the way once "hidden" is moved next to "open"; None takes an item away
+    assert visible_items(room, (1.0, 2.0), moved={"hidden": (3.0, 2.3, 0.0)}) == ["top", "hidden", "open"]
+    assert visible_items(room, (1.0, 2.0), moved={"open": None}) == ["top"]
+    assert visible_items(room, (1.0, 2.0), moved={"hidden": (3.0, 3.1, 1.8)}) == ["top", "hidden", "open"]
+    # the 1.5 m post between the camera and "top" hides it; other items occlude too
+    assert visible_items(room, (1.0, 2.0), moved={"post": (2.0, 2.5, 0.0)}) == ["open", "post"]
+    with pytest.raises(KeyError):
+        visible_items(room, (1.0, 2.0), items=["ghost"])

@@ -1,0 +1,287 @@
+"""The belief state: what the robot knows of the room, and what it does not know yet.
+
+Goebelbecker et al. plan on a state where some facts are known and others are not yet known,
+and bridge the gap with assumptions over virtual objects. For the tidy-up room that is:
+
+- known items: seen, with a category and a believed place (floor, furniture top, the gripper,
+  or a deposit once delivered);
+- unseen items: the task says how many of each category the room holds (12 = 4 x 3 in the
+  O-FSM cases), so every missing one is a virtual object of a known category;
+- where an unseen item may be: the placement points (floor and table tops) nobody has seen yet.
+  A viewpoint's chance of revealing an unseen item is the share of those points it sees, under
+  a uniform prior (``p_item_near``);
+- what the robot did: waypoints reached (Algorithm 1 needs them), looks taken, moves that
+  found their way blocked.
+
+The belief knows the static map (the paper's prerequisite: a pre-built occupancy map and the
+deposits' poses) and computes line of sight against furniture only: it cannot know what
+unseen items hide.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sim.scenario import Scenario
+from sim.visibility import Box3, visible
+from tidyplan.exec.geometry import ENTRANCE, MapFacts, Placed, RoomMap
+
+Point = tuple[float, float]
+
+MISS_RANGE = 2.5  # m: a miss counts only this close; far detections are the unreliable ones
+SAME_ITEM = 0.20  # m: a detection this close to a believed item of its category is that item
+FORGET_AFTER = 3  # looks in a row that should have seen an item and did not: it is not there
+# (at a false-negative rate of 0.2, three misses in a row of a real item happen 1 time in 125)
+UNEXPLORED_SHARE = 0.02  # a viewpoint that would reveal less of the unseen space is explored
+POINT_SPACING = 0.10  # m between placement points
+
+
+@dataclass(slots=True)
+class Known:
+    """A seen item. ``state`` is placed, held or tidied; (x, y, on) is where it was last seen or
+    put down; ``misses`` counts looks in a row that should have seen it."""
+
+    name: str
+    category: str
+    x: float
+    y: float
+    on: str = "floor"
+    sx: float = 0.08
+    sy: float = 0.08
+    state: str = "placed"
+    misses: int = 0
+    deposit: str | None = None
+
+    def placed(self) -> Placed:
+        return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy)
+
+
+@dataclass(frozen=True, slots=True)
+class Detection:
+    """One object the camera reports: its category, where it appears to be, and its footprint
+    (an RGB-D detection gives the object's bounding box)."""
+
+    category: str
+    x: float
+    y: float
+    on: str = "floor"
+    sx: float = 0.08
+    sy: float = 0.08
+
+
+@dataclass(slots=True)
+class Update:
+    """What one observation changed, for the monitor and the trace."""
+
+    new: list[str] = field(default_factory=list)
+    confirmed: list[str] = field(default_factory=list)
+    forgotten: list[str] = field(default_factory=list)
+
+
+class Belief:
+    """Mutable by design: the loop owns one and updates it after every action; the facts handed
+    to the planner are computed from it, never stored in it."""
+
+    def __init__(self, scenario: Scenario, room: RoomMap) -> None:
+        self.scenario = scenario
+        self.room = room
+        self.expected = Counter(i.category for i in scenario.items)
+        self.items: dict[str, Known] = {}
+        self.robot: Point = room.entrance
+        self.robot_wp = ENTRANCE  # the waypoint the robot last reached: its name for the planner
+        self.holding: str | None = None
+        self.reached: set[str] = {ENTRANCE}
+        self.looked_from: set[str] = set()
+        self.must_move_back = False
+        self.sticky: dict[str, Point] = {}
+        self.blocked_moves: set[tuple[Point, Point]] = set()
+        self.scene_changed = False  # an item left the floor since exploration was last reset
+        self._serial: Counter[str] = Counter()
+        self._forgotten: dict[str, Known] = {}  # seen again near where it was: same name
+        self._occluders = [Box3.from_furniture(f) for f in scenario.furniture]
+        self.points, self._support = _placement_points(scenario)
+        self.seen = np.zeros(len(self.points), dtype=bool)
+        self._view_cache: dict[Point, np.ndarray] = {}
+
+    # ------------------------------------------------------------------ what is (not) known
+    def virtual(self) -> list[tuple[str, str]]:
+        """(name, category) of each item the room should hold and nobody has seen: the virtual
+        objects of the next problem, named by category and number."""
+        have = Counter(k.category for k in self.items.values())
+        out = []
+        for cat in sorted(self.expected):
+            out += [(f"unseen-{cat}-{n + 1}", cat) for n in range(max(0, self.expected[cat] - have[cat]))]
+        return out
+
+    def untidied(self) -> list[Known]:
+        return sorted((k for k in self.items.values() if k.state != "tidied"), key=lambda k: k.name)
+
+    def placed(self) -> list[Placed]:
+        return [k.placed() for k in self.untidied() if k.state == "placed"]
+
+    def facts(self) -> MapFacts:
+        facts = self.room.facts(self.placed(), robot=(self.robot_wp, self.robot), sticky=self.sticky)
+        for item, wp in facts.grasp.items():
+            self.sticky[item] = facts.points[wp]
+        for a, b in list(facts.path):
+            if (facts.points[a], facts.points[b]) in self.blocked_moves:
+                del facts.path[(a, b)]  # a move found this way blocked: the grid is wrong here
+        return facts
+
+    def p_item_near(self, facts: MapFacts) -> dict[str, float]:
+        """For each viewpoint nobody looked from: the chance that an unseen item is revealed from
+        it, the share of unseen placement points in its view."""
+        unseen = ~self.seen
+        total = int(unseen.sum())
+        out: dict[str, float] = {}
+        if total == 0:
+            return out
+        for name, kind in sorted(facts.kind.items()):
+            if kind != "viewpoint" or name in self.looked_from:
+                continue
+            share = float((self._view(facts.points[name]) & unseen).sum()) / total
+            if share >= UNEXPLORED_SHARE:
+                out[name] = round(share, 4)
+        return out
+
+    def reset_exploration(self) -> None:
+        """Forget what was seen: the floor changed, so views that were blocked may be open now."""
+        self.seen[:] = False
+        self.looked_from.clear()
+        self.scene_changed = False
+
+    # ------------------------------------------------------------------ updates
+    def at(self, point: Point, waypoint: str) -> None:
+        self.robot, self.robot_wp = point, waypoint
+        self.reached.add(waypoint)
+
+    def observe(self, detections: list[Detection], waypoint: str | None) -> Update:
+        """A look from where the robot stands: add, confirm and forget items; mark space seen."""
+        update = Update()
+        view = self._view(self.robot)
+        self.seen |= view
+        if waypoint is not None:
+            self.looked_from.add(waypoint)
+        matched: set[str] = set()
+        for d in detections:
+            k = self._match(d, matched)
+            if k is not None:
+                k.misses = 0
+                matched.add(k.name)
+                update.confirmed.append(k.name)
+                continue
+            name = self._revive(d)
+            if name is None:
+                self._serial[d.category] += 1
+                name = f"{d.category}-{self._serial[d.category]}"
+            self.items[name] = Known(name, d.category, d.x, d.y, d.on, d.sx, d.sy)
+            matched.add(name)
+            update.new.append(name)
+        for k in self.untidied():
+            if k.state != "placed" or k.name in matched or not self._should_see(k):
+                continue
+            k.misses += 1
+            if k.misses >= FORGET_AFTER:
+                self.forget(k.name)
+                update.forgotten.append(k.name)
+        return update
+
+    def forget(self, name: str) -> None:
+        """An item believed in a place that is not there (a false detection, or it moved)."""
+        k = self.items.pop(name, None)
+        if k is not None:
+            self._forgotten[name] = k
+        self.sticky.pop(name, None)
+
+    def taken(self, name: str) -> None:
+        k = self.items[name]
+        k.state, self.holding = "held", name
+        if k.on == "floor":
+            self.scene_changed = True
+            self.blocked_moves.clear()  # the floor changed: old blockages may be gone
+        self.sticky.pop(name, None)
+
+    def put(self, name: str, x: float, y: float, on: str = "floor") -> None:
+        k = self.items[name]
+        k.state, k.x, k.y, k.on, k.misses = "placed", x, y, on, 0
+        self.holding = None
+
+    def delivered(self, name: str, deposit: str) -> None:
+        k = self.items[name]
+        k.state, k.deposit = "tidied", deposit
+        self.holding = None
+
+    def bind(self, virtual: str, real: str) -> None:
+        """A virtual object of the plan turned out to be this seen item (no state to change: the
+        count of unseen items dropped when the item was added)."""
+
+    # ------------------------------------------------------------------ geometry
+    def _match(self, d: Detection, taken: set[str]) -> Known | None:
+        best = None
+        for k in self.items.values():
+            if k.state != "placed" or k.category != d.category or k.name in taken:
+                continue
+            dist = math.dist((k.x, k.y), (d.x, d.y))
+            if dist <= SAME_ITEM and (best is None or dist < best[0]):
+                best = (dist, k)
+        return None if best is None else best[1]
+
+    def _revive(self, d: Detection) -> str | None:
+        """The name of a forgotten item of this category that lay where d is, if any."""
+        for name, k in sorted(self._forgotten.items()):
+            if k.category == d.category and math.dist((k.x, k.y), (d.x, d.y)) <= SAME_ITEM:
+                del self._forgotten[name]
+                return name
+        return None
+
+    def _should_see(self, k: Known) -> bool:
+        s = self.scenario.sensing
+        z = 0.05 if k.on == "floor" else self.scenario.furniture_named(k.on).height + 0.05
+        if math.dist(self.robot, (k.x, k.y)) > MISS_RANGE:
+            return False
+        occ = [b for b in self._occluders if b.name != k.on]
+        return visible(
+            self._camera(self.robot), (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max
+        )
+
+    def _camera(self, p: Point) -> tuple[float, float, float]:
+        return (p[0], p[1], self.scenario.sensing.camera_height)
+
+    def _view(self, p: Point) -> np.ndarray:
+        """Placement points in line of sight and range from p (furniture occludes, items do not:
+        the belief cannot know what unseen items hide)."""
+        key = (round(p[0], 3), round(p[1], 3))
+        if key not in self._view_cache:
+            s = self.scenario.sensing
+            cam = self._camera(p)
+            mask = np.zeros(len(self.points), dtype=bool)
+            for n, (x, y, z) in enumerate(self.points):
+                occ = [b for b in self._occluders if b.name != self._support[n]]
+                mask[n] = visible(cam, (x, y, z), occ, range_min=s.range_min, range_max=s.range_max)
+            self._view_cache[key] = mask
+        return self._view_cache[key]
+
+
+def _placement_points(scenario: Scenario) -> tuple[list[tuple[float, float, float]], list[str]]:
+    """Where an item may lie: a 10 cm lattice over the floor clear of furniture, and over the top
+    of every table; 5 cm above the surface (an item's middle)."""
+    x0, x1, y0, y1 = scenario.bounds
+    points, support = [], []
+    xs = np.arange(x0 + POINT_SPACING / 2, x1, POINT_SPACING)
+    ys = np.arange(y0 + POINT_SPACING / 2, y1, POINT_SPACING)
+    for x in xs:
+        for y in ys:
+            x, y = round(float(x), 3), round(float(y), 3)
+            on = [f for f in scenario.furniture if f.box().clearance(x, y) == 0.0]
+            if not on:
+                if all(f.box().clearance(x, y) >= 0.05 for f in scenario.furniture):
+                    points.append((x, y, 0.05))
+                    support.append("floor")
+            elif on[0].kind == "table":
+                points.append((x, y, on[0].height + 0.05))
+                support.append(on[0].name)
+    return points, support

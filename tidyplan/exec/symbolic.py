@@ -1,0 +1,258 @@
+"""A fast symbolic world with a hidden true state: the loop's test bench and scenario planner.
+
+What is hidden from the robot: where every item really is (some start where no waypoint sees
+them, or behind furniture), which paths are really open (an unseen floor item can block one),
+and whether an action works this time. The robot learns of the world only through action
+outcomes and looks. Geometry is the scenario's: paths on the occupancy grid with the true floor
+items as obstacles, line of sight against furniture and items (``sim.visibility``).
+
+Randomness comes from one seeded generator, drawn in a fixed order, so a seed fixes the run.
+
+Durations on the simulated clock (our figures, documented in docs/trace.md): driving at the
+scenario's robot speed (the HSR's 0.8 km/h = 0.22 m/s by default); a pose adjustment at half
+that; a look 2 s (a head sweep); a grasp 12 s, a placement 10 s, a drop 8 s (arm motions of
+a few seconds each, plus perception, as on the real HSR).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sim.scenario import Scenario
+from sim.visibility import Box3, visible
+from tidyplan.belief import Detection
+from tidyplan.exec.geometry import ADJUST_MAX, GRASP_MAX, RoomMap
+
+Point = tuple[float, float]
+
+LOOK_S, TAKE_S, DELIVER_S, DROP_S = 2.0, 12.0, 10.0, 8.0
+TAKE_TOLERANCE = 0.15  # m: the gripper finds an item this close to where it was believed to be
+
+
+@dataclass(frozen=True, slots=True)
+class Rates:
+    """Success rates of the manipulation actions and the camera's error rates.
+
+    Defaults: the domain's probabilities (take 0.95, deliver 0.98, drop 0.98) and Goebelbecker's
+    false negative 0.2 and false positive 0.05 (the scenario's [sensing] may set its own)."""
+
+    take: float = 0.95
+    deliver: float = 0.98
+    drop: float = 0.98
+    false_negative: float | None = None  # None: the scenario's
+    false_positive: float | None = None
+
+
+@dataclass(slots=True)
+class TrueItem:
+    name: str
+    category: str
+    x: float
+    y: float
+    on: str
+    sx: float
+    sy: float
+    sz: float
+    state: str = "placed"  # placed, held, tidied
+    deposit: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Outcome:
+    """What the world says about one action: success, or a named failure, and its cost."""
+
+    ok: bool
+    failure: str | None = None
+    seconds: float = 0.0
+    metres: float = 0.0
+    at: Point | None = None  # where an item was put down (drop)
+
+
+@dataclass(slots=True)
+class Odometer:
+    sim_time_s: float = 0.0
+    distance_m: float = 0.0
+    track: list[Point] = field(default_factory=list)
+
+
+class SymbolicWorld:
+    def __init__(self, scenario: Scenario, room: RoomMap, seed: int = 0, rates: Rates = Rates()) -> None:
+        self.scenario = scenario
+        self.room = room
+        self.rng = np.random.default_rng(seed)
+        s = scenario.sensing
+        self.fn = s.false_negative if rates.false_negative is None else rates.false_negative
+        self.fp = s.false_positive if rates.false_positive is None else rates.false_positive
+        self.rates = rates
+        self.items = {
+            i.name: TrueItem(i.name, i.category, i.x, i.y, i.on, i.sx, i.sy, i.sz) for i in scenario.items
+        }
+        self.robot: Point = room.entrance
+        self.holding: str | None = None
+        self.odometer = Odometer(track=[self.robot])
+        self._furniture = [Box3.from_furniture(f) for f in scenario.furniture]
+
+    # ------------------------------------------------------------------ sensing
+    def look(self) -> list[Detection]:
+        """Items in range and line of sight, each missed at the false-negative rate; a phantom at
+        the false-positive rate (a random category, somewhere in view on the floor)."""
+        self._spend(LOOK_S)
+        s = self.scenario.sensing
+        cam = (self.robot[0], self.robot[1], s.camera_height)
+        out = []
+        for it in sorted(self._placed(), key=lambda t: t.name):
+            occ = [b for b in self._furniture if b.name != it.on] + [
+                self._box3(o) for o in self._placed() if o is not it
+            ]
+            z = self._base_z(it) + it.sz / 2
+            miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
+            if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max) and not miss:
+                out.append(Detection(it.category, it.x, it.y, it.on, it.sx, it.sy))
+        if self.rng.random() < self.fp:
+            angle = self.rng.uniform(0, 2 * math.pi)
+            dist = self.rng.uniform(s.range_min, min(s.range_max, 2.0))
+            x, y = self.robot[0] + dist * math.cos(angle), self.robot[1] + dist * math.sin(angle)
+            cats = sorted({i.category for i in self.items.values()})
+            cat = cats[int(self.rng.integers(0, len(cats)))]
+            x0, x1, y0, y1 = self.scenario.bounds
+            if x0 < x < x1 and y0 < y < y1:
+                out.append(Detection(cat, round(x, 3), round(y, 3), "floor"))
+        return out
+
+    # ------------------------------------------------------------------ actions
+    def move(self, to: Point, *, adjust: bool = False) -> Outcome:
+        """Drive along the shortest free path (or, ``adjust``, straight in a short careful pose
+        adjustment). Fails ``path_blocked`` when the true floor leaves no way: the robot stays."""
+        floor = [self._box(o) for o in self._placed() if o.on == "floor"]
+        if adjust:
+            bare = self.room.grid(floor, bare=True)
+            d = math.dist(self.robot, to)
+            if d > ADJUST_MAX + 0.05 or not bare.free(*to):
+                return self._fail("path_blocked", 2.0)
+            return self._arrive(to, d, d / (self.scenario.robot.speed / 2))
+        nav = self.room.grid(floor)
+        start, extra = self.robot, 0.0
+        if not nav.free(*start):  # in a tight pose: back out to the nearest navigable cell first
+            cells = [c for c in nav.free_cells() if math.dist(c, start) <= ADJUST_MAX + 0.05]
+            if not cells:
+                return self._fail("path_blocked", 2.0)
+            start = min(cells, key=lambda c: (math.dist(c, self.robot), c))
+            extra = math.dist(start, self.robot)
+        length = nav.path_length(start, to)
+        if length is None:
+            return self._fail("path_blocked", 2.0)
+        d = extra + length
+        return self._arrive(to, d, d / self.scenario.robot.speed)
+
+    def take(self, target: Point) -> Outcome:
+        """Grasp the item nearest to where it was believed to lie; ``not_found`` when there is none
+        within reach, ``grasp_fail`` at 1 - the take rate."""
+        if self.holding is not None:
+            return self._fail("hand_full", 1.0)
+        near = [
+            o
+            for o in self._placed()
+            if math.dist((o.x, o.y), target) <= TAKE_TOLERANCE
+            and math.dist((o.x, o.y), self.robot) <= GRASP_MAX + 0.1
+        ]
+        if not near:
+            return self._fail("not_found", TAKE_S / 2)
+        if self.rng.random() >= self.rates.take:
+            return self._fail("grasp_fail", TAKE_S)
+        item = min(near, key=lambda o: (math.dist((o.x, o.y), target), o.name))
+        item.state, self.holding = "held", item.name
+        return self._spend(TAKE_S)
+
+    def deliver(self, deposit: str, approach: Point) -> Outcome:
+        if self.holding is None:
+            return self._fail("hand_empty", 1.0)
+        if math.dist(self.robot, approach) > 0.1:
+            return self._fail("not_at_deposit", 1.0)
+        if self.rng.random() >= self.rates.deliver:
+            return self._fail("place_fail", DELIVER_S)
+        item = self.items[self.holding]
+        item.state, item.deposit, self.holding = "tidied", deposit, None
+        return self._spend(DELIVER_S)
+
+    def drop(self) -> Outcome:
+        """Put the held item on the floor in free space next to the robot, towards the nearest
+        wall (out of the way: Algorithm 1's "drop it in a free space nearby")."""
+        if self.holding is None:
+            return self._fail("hand_empty", 1.0)
+        if self.rng.random() >= self.rates.drop:
+            return self._fail("place_fail", DROP_S)
+        item = self.items[self.holding]
+        spot = self._free_spot(item)
+        if spot is None:
+            return self._fail("place_fail", DROP_S)
+        item.x, item.y, item.on, item.state, self.holding = spot[0], spot[1], "floor", "placed", None
+        out = self._spend(DROP_S)
+        return Outcome(True, None, out.seconds, 0.0, spot)
+
+    # ------------------------------------------------------------------ the referee's view
+    def untidied(self) -> list[str]:
+        """Items not in a deposit of their category."""
+        cat = {d.name: d.category for d in self.scenario.deposits}
+        return sorted(
+            o.name
+            for o in self.items.values()
+            if o.state != "tidied" or cat.get(o.deposit or "") != o.category
+        )
+
+    def where(self, name: str) -> tuple[str, Point]:
+        o = self.items[name]
+        return o.state if o.state != "tidied" else f"tidied:{o.deposit}", (o.x, o.y)
+
+    # ------------------------------------------------------------------ helpers
+    def _placed(self) -> list[TrueItem]:
+        return [o for o in self.items.values() if o.state == "placed"]
+
+    def _base_z(self, o: TrueItem) -> float:
+        return 0.0 if o.on == "floor" else self.scenario.furniture_named(o.on).height
+
+    def _box3(self, o: TrueItem) -> Box3:
+        z = self._base_z(o)
+        return Box3(o.x - o.sx / 2, o.x + o.sx / 2, o.y - o.sy / 2, o.y + o.sy / 2, z, z + o.sz, o.name)
+
+    @staticmethod
+    def _box(o: TrueItem):
+        from sim.grid import Box
+
+        return Box(o.x, o.y, o.sx, o.sy, o.name)
+
+    def _free_spot(self, item: TrueItem) -> Point | None:
+        x0, x1, y0, y1 = self.scenario.bounds
+        centre = ((x0 + x1) / 2, (y0 + y1) / 2)
+        spots = []
+        for k in range(16):
+            a = 2 * math.pi * k / 16
+            p = (round(self.robot[0] + 0.45 * math.cos(a), 3), round(self.robot[1] + 0.45 * math.sin(a), 3))
+            if not (x0 + 0.1 < p[0] < x1 - 0.1 and y0 + 0.1 < p[1] < y1 - 0.1):
+                continue
+            if any(f.box().clearance(*p) < 0.05 for f in self.scenario.furniture):
+                continue
+            if any(math.dist(p, (o.x, o.y)) < 0.2 for o in self._placed()):
+                continue
+            spots.append((-math.dist(p, centre), p))
+        return min(spots)[1] if spots else None
+
+    def _spend(self, seconds: float) -> Outcome:
+        self.odometer.sim_time_s += seconds
+        return Outcome(True, None, seconds)
+
+    def _fail(self, failure: str, seconds: float) -> Outcome:
+        self.odometer.sim_time_s += seconds
+        return Outcome(False, failure, seconds)
+
+    def _arrive(self, to: Point, metres: float, seconds: float) -> Outcome:
+        self.robot = to
+        self.odometer.sim_time_s += seconds
+        self.odometer.distance_m += metres
+        self.odometer.track.append(to)
+        if self.holding is not None:
+            held = self.items[self.holding]
+            held.x, held.y = to
+        return Outcome(True, None, seconds, metres)

@@ -1,0 +1,367 @@
+"""The continual planning loop: plan, execute the next action, observe, update, monitor.
+
+Goebelbecker et al. (after Brenner & Nebel): plan on the belief with assumptions for what is
+not yet known, execute, and replan only when the monitor finds a reason (``triggers.Cause``).
+A plan that is still valid is kept; assumptions are never executed but checked against what
+is seen; a newly seen item that matches a virtual object of the plan is bound to it in place.
+O-FSM (Yan et al.) is the ranking of the plans: strategy ``ofsm`` plans with strata P1..P3,
+``greedy`` with P1 alone.
+
+When the whole goal has no plan (an item out of reach, an unseen item no viewpoint can reveal),
+the loop narrows the goal rather than stop at once: first to the items seen, then to those that
+have a plan on their own, and says so in the trace. It gives up when nothing is left to plan
+for, or when the best plan's success probability is below the threshold.
+
+The planner, the executor and the trace writer are passed in; the loop knows the tidy domain
+only through the belief, the problem writer and the executor.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from statistics import median
+
+from tidyplan.belief import Belief
+from tidyplan.errors import PlannerError
+from tidyplan.monitor.triggers import Cause
+from tidyplan.pddl import model as m
+from tidyplan.pddl.check import check_problem
+from tidyplan.pddl.compile import compile_task
+from tidyplan.pddl.reader import parse, read_domain, read_text
+from tidyplan.pddl.simulate import Simulator
+from tidyplan.pddl.writer import domain_text, problem_text
+from tidyplan.planner import PlanResult, Status, Step
+from tidyplan.problem import Snapshot, write
+from tidyplan.strata import transition
+
+STRATEGIES = {"ofsm": None, "greedy": 1}  # strategy -> highest stratum it may use
+
+
+@dataclass(frozen=True, slots=True)
+class LoopConfig:
+    strategy: str = "ofsm"
+    min_probability: float = 1e-4  # give up when the best plan is less likely than this
+    max_actions: int = 300  # O-FSM's halting criterion: a cap on the actions performed
+    max_plans: int = 150
+
+
+@dataclass(slots=True)
+class Counters:
+    actions: int = 0
+    replans: int = 0
+    replans_avoided: int = 0
+    causes: dict[str, int] = field(default_factory=dict)
+    plan_times: list[float] = field(default_factory=list)
+    strata: dict[str, int] = field(default_factory=lambda: {"P1": 0, "P2": 0, "P3": 0})
+    paper_actions: int = 0  # Yan et al.'s count: the approach move is part of take_object
+    segment: int = 1  # highest stratum used since the last delivery
+
+
+@dataclass(slots=True)
+class Outcome:
+    success: bool
+    reason: str
+    counters: Counters
+
+
+class Mission:
+    """One run of the loop. ``planner(domain, problem, max_stratum) -> PlanResult``."""
+
+    def __init__(self, domain_path, belief: Belief, executor, world, planner, trace, config=LoopConfig()):
+        self.domain: m.Domain = read_domain(domain_path)
+        self.domain_text = read_text(domain_path)
+        self.belief, self.executor, self.world = belief, executor, world
+        self.planner, self.trace, self.config = planner, trace, config
+        self.max_stratum = STRATEGIES[config.strategy]
+        self.count = Counters()
+        self.snapshot: Snapshot | None = None
+        self.steps: list[Step] = []
+        self.pending: list[Step] = []  # assumptions passed in the plan, not yet confirmed
+        self.bound: dict[str, str] = {}  # virtual object -> seen item
+        self.stratum: int | None = None
+        self._plain = trace.save("domain.pddl", self.domain_text)
+
+    # ------------------------------------------------------------------ the loop
+    def run(self) -> Outcome:
+        self.trace.emit(
+            "start", strategy=self.config.strategy, domain=self._plain, expected=dict(self.belief.expected)
+        )
+        self._observe(self.executor.world.look(), "wp-entrance")
+        reason = self._replan(Cause.INITIAL)
+        while reason is None:
+            reason = self._tick()
+        success = reason == "goal reached"
+        self.trace.emit("end", success=success, reason=reason)
+        return Outcome(success, reason, self.count)
+
+    def _tick(self) -> str | None:
+        """One turn: consume assumptions, check, execute one action, observe, monitor."""
+        while self.steps and self.steps[0].assumption:
+            step = self.steps.pop(0)
+            self.pending.append(step)
+            self.trace.emit("assume", action=_text(step), probability=step.probability)
+        if not self.steps:
+            return self._finished()
+        if self.count.actions >= self.config.max_actions:
+            return f"action limit {self.config.max_actions} reached"
+        step = self.steps[0]
+        state = self._belief_state()
+        if not self.sim.applicable(state, step.name, step.args):
+            return self._replan(Cause.PRECONDITION, f"{_text(step)} not applicable")
+        self.steps.pop(0)
+        report = self.executor.execute(step, self.snapshot, self.belief)
+        self._count(step, report)
+        self.trace.emit(
+            "action",
+            action=_text(step),
+            stratum=step.stratum,
+            ok=report.ok,
+            failure=report.failure,
+            seconds=round(report.seconds, 2),
+            metres=round(report.metres, 2),
+            robot=list(map(_r, self.belief.robot)),
+        )
+        new = self._observe(report.detections, report.waypoint)
+        return self._monitor(new, report, step)
+
+    def _monitor(self, new: list[str], report, step: Step) -> str | None:
+        unbound = self._bind(new)
+        contradicted = self._check_assumptions()
+        if contradicted:
+            return self._replan(Cause.ASSUMPTION, contradicted)
+        if report.recovery_exhausted:
+            return self._replan(Cause.RECOVERY, f"{_text(step)}: {report.failure}")
+        if unbound:
+            return self._replan(Cause.NEW_OBJECT, " ".join(unbound))
+        if not self.steps:
+            return None  # _finished decides on the next turn
+        state = self._belief_state()
+        end, broken = self.sim.run(state, ((s.name, s.args) for s in self.steps))
+        done = {k.name for k in self.belief.items.values() if k.state == "tidied"}
+        if broken is not None or not all(("tidied", g) in end or g in done for g in self.goal):
+            why = (
+                f"step {broken} {_text(self.steps[broken])} fails"
+                if broken is not None
+                else "goal not reached"
+            )
+            if broken == 0 and not report.ok:
+                why = f"{_text(step)} failed ({report.failure})"
+            return self._replan(Cause.PLAN_INVALID, why)
+        if new or not report.ok:
+            self.count.replans_avoided += 1
+            self.trace.emit("plan_kept", steps=len(self.steps))
+        return None
+
+    def _finished(self) -> str | None:
+        """The plan ran out: done if every expected item is tidied and the world agrees."""
+        if not self.belief.untidied() and not self.belief.virtual():
+            left = self.world.untidied()
+            if left:
+                return f"belief says tidy, the world has {len(left)} items left"
+            return "goal reached"
+        return self._replan(Cause.PLAN_INVALID, "plan done, items remain")
+
+    # ------------------------------------------------------------------ planning
+    def _replan(self, cause: Cause, why: str = "") -> str | None:
+        if cause is not Cause.INITIAL:
+            self.count.replans += 1
+            self.count.causes[cause.value] = self.count.causes.get(cause.value, 0) + 1
+        if self.count.replans + 1 > self.config.max_plans:
+            return f"plan limit {self.config.max_plans} reached"
+        self.pending.clear()
+        self.bound.clear()
+        attempts = self._goals()
+        for label, goal, virtual in attempts:
+            if not goal:
+                continue
+            result, snap = self._plan(goal, virtual, cause, why, label)
+            if result.status is Status.SOLVED:
+                p = result.score.probability
+                if p < self.config.min_probability:
+                    return f"best plan's success probability {p:.2g} below {self.config.min_probability:g}"
+                self._adopt(result, snap)
+                return None
+        if self.belief.virtual() and self.belief.scene_changed:
+            self.belief.reset_exploration()  # items moved: views blocked before may be open now
+            self.trace.emit("explore_again", unseen=len(self.belief.virtual()))
+            return self._replan(cause, why)
+        left = [k.name for k in self.belief.untidied()] + [v for v, _ in self.belief.virtual()]
+        return f"no plan for {' '.join(left)}" if left else "no plan"
+
+    def _goals(self):
+        """Goals to try in order: everything; the items seen; each seen item that can be planned
+        for on its own (only those, together)."""
+        facts = self.belief.facts()
+        seen = [k.name for k in self.belief.untidied() if k.state == "held" or k.name in facts.grasp]
+        virtual = self.belief.virtual() if self.belief.p_item_near(facts) else []
+        out = [("all", seen + [v for v, _ in virtual], virtual)]
+        if virtual:
+            out.append(("seen", seen, []))
+        self._facts = facts
+        return out + [("feasible", None, [])]
+
+    def _plan(self, goal, virtual, cause, why, label) -> tuple[PlanResult, Snapshot]:
+        if goal is None:  # the items that have a plan alone
+            goal = [g for g in self._goals()[1 if self.belief.virtual() else 0][1] if self._alone(g)]
+            if not goal:
+                return PlanResult(Status.NO_PLAN, (), None, None, (), 0.0, "", "nothing feasible"), None
+        n = self.count.replans
+        snap = write(self.belief, self.belief.facts(), goal, virtual, f"tidy-replan-{n:03d}")
+        problem = self._problem(snap.text, f"replan-{n:03d}.pddl")
+        t0 = time.perf_counter()
+        result = self.planner(self.domain, problem, self.max_stratum)
+        seconds = time.perf_counter() - t0
+        self.count.plan_times.append(seconds)
+        paths = self._save(n, label, snap, problem)
+        previous = self.stratum
+        self.trace.emit(
+            "plan",
+            replan=n,
+            cause=cause.value,
+            why=why,
+            goal_kind=label,
+            goal=list(goal),
+            status=result.status.value,
+            planning_time_s=round(seconds, 3),
+            stratum=result.stratum,
+            transition=transition(previous, result.stratum) if result.stratum else None,
+            cost=result.score.cost if result.score else None,
+            probability=round(result.score.probability, 6) if result.score else None,
+            plan=[_text(s) for s in result.steps],
+            assumptions=sum(s.assumption for s in result.steps),
+            message=result.message,
+            **paths,
+        )
+        return result, snap
+
+    def _problem(self, text: str, name: str) -> m.Problem:
+        """Parse and check a problem the writer made; an error here is ours, not the user's."""
+        problem = parse(text, name)
+        errors = [d for d in check_problem(problem, self.domain) if not d.warning]
+        if errors:
+            raise PlannerError(f"tidyplan wrote a bad problem {name}: " + "; ".join(map(str, errors)))
+        return problem
+
+    def _alone(self, item: str) -> bool:
+        snap = write(self.belief, self._facts, [item], [], "tidy-alone")
+        problem = self._problem(snap.text, "alone.pddl")
+        return self.planner(self.domain, problem, self.max_stratum).status is Status.SOLVED
+
+    def _adopt(self, result: PlanResult, snap: Snapshot) -> None:
+        self.snapshot, self.steps = snap, list(result.steps)
+        self.stratum = result.stratum
+        problem = self._problem(snap.text, "adopted.pddl")
+        self.sim = Simulator(self.domain, problem)
+        self.goal = list(snap.goal)  # item names; renamed as virtual objects are bound
+
+    def _save(self, n: int, label: str, snap: Snapshot, problem: m.Problem) -> dict:
+        base = f"replan-{n:03d}" + ("" if label == "all" else f"-{label}")
+        out = {"domain": self._plain, "problem": self.trace.save(f"{base}.pddl", snap.text)}
+        try:
+            task = compile_task(self.domain, problem)
+            out["plain_domain"] = self.trace.save(f"{base}/domain.pddl", domain_text(task.domain))
+            out["plain_problem"] = self.trace.save(f"{base}/problem.pddl", problem_text(task.problem))
+        except Exception as err:  # noqa: BLE001 - a plain copy is a convenience; the plan goes on
+            out["plain_error"] = str(err)
+        return out
+
+    # ------------------------------------------------------------------ monitoring
+    def _belief_state(self):
+        """The current belief as a planning state, in the names of the plan being executed."""
+        virtual = [(v, c) for v, c in self.snapshot.virtual if v not in self.bound]
+        snap = write(self.belief, self.belief.facts(), self.goal, virtual, "belief")
+        facts = set(self.sim.initial_state(parse(snap.text, "belief.pddl")))
+        # Virtual objects the plan bound are seen items now; pending assumptions stand for
+        # what the plan took for granted and the belief does not contradict yet.
+        for a in self.pending:
+            facts = set(self.sim.apply(frozenset(facts), a.name, a.args))
+        return frozenset(facts)
+
+    def _observe(self, detections, waypoint) -> list[str]:
+        update = self.belief.observe(detections, waypoint)
+        if detections or update.new or update.forgotten:
+            self.trace.emit(
+                "observe",
+                waypoint=waypoint,
+                seen=len(detections),
+                new=update.new,
+                confirmed=update.confirmed,
+                forgotten=update.forgotten,
+            )
+        return update.new
+
+    def _bind(self, new: list[str]) -> list[str]:
+        """Bind new items to the plan's virtual objects of their category; return the rest that
+        the plan could use (an item of a category the room should hold)."""
+        unbound = []
+        planned = {a for s in self.steps + self.pending for a in s.args}
+        for name in new:
+            cat = self.belief.items[name].category
+            match = [
+                v
+                for v, c in (self.snapshot.virtual if self.snapshot else ())
+                if c == cat and v in planned and v not in self.bound
+            ]
+            if match:
+                v = match[0]
+                self.bound[v] = name
+                self.steps = [_rename(s, v, name) for s in self.steps]
+                self.pending = [_rename(s, v, name) for s in self.pending]
+                # The plan's assumption about v, still ahead, can be checked at once.
+                ahead = [s for s in self.steps if s.assumption and name in s.args]
+                self.steps = [s for s in self.steps if s not in ahead]
+                self.pending += ahead
+                self.goal = [name if g == v else g for g in self.goal]
+                self.trace.emit("bind", virtual=v, item=name)
+            elif cat in self.belief.expected:
+                unbound.append(name)
+        return unbound
+
+    def _check_assumptions(self) -> str | None:
+        """assume-item-near o w holds when o (bound) is grasped from w; it is contradicted when
+        o is bound elsewhere, or when the robot has looked from w without finding o."""
+        facts = self.belief.facts()
+        for a in list(self.pending):
+            item, w = a.args
+            known = self.belief.items.get(item)
+            if known is not None:
+                ok = facts.grasp.get(item) == w
+            elif w in self.belief.looked_from:
+                ok = False
+            else:
+                continue
+            self.pending.remove(a)
+            self.trace.emit("assumption", action=_text(a), holds=ok)
+            if not ok:
+                return f"{_text(a)}: " + (
+                    f"{item} is at {facts.grasp.get(item)}" if known else f"not seen from {w}"
+                )
+        return None
+
+    def _count(self, step: Step, report) -> None:
+        c = self.count
+        c.actions += 1
+        c.segment = max(c.segment, step.stratum)
+        carrying = self.belief.holding is not None
+        if report.ok and (step.name != "move" or carrying or self.belief.must_move_back):
+            c.paper_actions += 1
+        if report.ok and step.name == "deliver_it":
+            c.strata[f"P{c.segment}"] += 1
+            c.segment = 1
+
+    def summary_times(self) -> dict:
+        t = self.count.plan_times
+        return {"median": round(median(t), 3), "max": round(max(t), 3)} if t else {"median": 0.0, "max": 0.0}
+
+
+def _rename(step: Step, old: str, new: str) -> Step:
+    return replace(step, args=tuple(new if a == old else a for a in step.args))
+
+
+def _text(step: Step) -> str:
+    return "(" + " ".join((step.name, *step.args)) + ")"
+
+
+def _r(x: float) -> float:
+    return round(x, 3)

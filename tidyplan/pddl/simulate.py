@@ -1,0 +1,139 @@
+"""Progress a state through ground actions: the monitor's test of "does the rest still work".
+
+The continual loop asks, after every observation, whether the next action's precondition holds
+in the belief and whether the rest of the plan still reaches the goal (Brenner & Nebel's
+monitoring, as Goebelbecker et al. use it). That is plain STRIPS/ADL progression over a
+frozenset of ground atoms, done here in microseconds; going through unified-planning's
+simulator would rebuild its problem on every belief change (hundreds of milliseconds).
+
+A state is a frozenset of ``(predicate, args...)`` tuples; static and dynamic facts alike.
+Numeric effects are ignored: costs never decide applicability in the dialect.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+
+from tidyplan.pddl import model as m
+
+State = frozenset[tuple[str, ...]]
+
+
+class Simulator:
+    """Applicability and progression of a domain's actions over one problem's objects."""
+
+    def __init__(self, domain: m.Domain, problem: m.Problem) -> None:
+        self.domain = domain
+        parents = domain.type_parents
+        self._objects: dict[str, list[str]] = {}
+        for obj in tuple(domain.constants) + problem.all_objects:
+            for t in _ancestors(obj.types, parents):
+                self._objects.setdefault(t, []).append(obj.name)
+
+    def initial_state(self, problem: m.Problem) -> State:
+        return frozenset((a.predicate, *a.args) for a in problem.init)
+
+    def applicable(self, state: State, name: str, args: Sequence[str]) -> bool:
+        action = self._action(name)
+        return _holds(action.precondition, state, self._bind(action, args), self._objects)
+
+    def apply(self, state: State, name: str, args: Sequence[str]) -> State:
+        """The successor state; the caller checks applicability first."""
+        action = self._action(name)
+        add: set[tuple[str, ...]] = set()
+        delete: set[tuple[str, ...]] = set()
+        _effects(action.effect, state, self._bind(action, args), self._objects, add, delete)
+        return frozenset((state - delete) | add)  # PDDL: adds win over deletes
+
+    def run(self, state: State, steps: Iterable[tuple[str, Sequence[str]]]) -> tuple[State, int | None]:
+        """Apply steps in turn; returns the state reached and the index of the first step whose
+        precondition fails (None when all applied)."""
+        for k, (name, args) in enumerate(steps):
+            if not self.applicable(state, name, args):
+                return state, k
+            state = self.apply(state, name, args)
+        return state, None
+
+    def holds(self, formula: m.Formula, state: State) -> bool:
+        return _holds(formula, state, {}, self._objects)
+
+    def _action(self, name: str) -> m.Action:
+        action = self.domain.action(name)
+        if action is None:
+            raise KeyError(f"no action {name!r} in domain {self.domain.name}")
+        return action
+
+    @staticmethod
+    def _bind(action: m.Action, args: Sequence[str]) -> dict[str, str]:
+        if len(args) != len(action.parameters):
+            raise ValueError(f"{action.name} takes {len(action.parameters)} arguments, got {len(args)}")
+        return {p.name: a for p, a in zip(action.parameters, args, strict=True)}
+
+
+def _ancestors(types: Sequence[str], parents: Mapping[str, Sequence[str]]) -> set[str]:
+    seen: set[str] = set()
+    todo = list(types)
+    while todo:
+        t = todo.pop()
+        if t not in seen:
+            seen.add(t)
+            todo.extend(parents.get(t, ()))
+    seen.add(m.ROOT_TYPE)
+    return seen
+
+
+def _ground(args: Sequence[str], binding: Mapping[str, str]) -> tuple[str, ...]:
+    return tuple(binding.get(a, a) for a in args)
+
+
+def _bindings(variables: Sequence[m.Typed], binding: dict[str, str], objects) -> Iterable[dict[str, str]]:
+    if not variables:
+        yield binding
+        return
+    first, rest = variables[0], variables[1:]
+    names = sorted({o for t in first.types for o in objects.get(t, ())})
+    for o in names:
+        yield from _bindings(rest, {**binding, first.name: o}, objects)
+
+
+def _holds(f: m.Formula, state: State, binding: dict[str, str], objects) -> bool:
+    if isinstance(f, m.Atom):
+        args = _ground(f.args, binding)
+        if f.predicate == "=":
+            return args[0] == args[1]
+        return (f.predicate, *args) in state
+    if isinstance(f, m.And):
+        return all(_holds(p, state, binding, objects) for p in f.parts)
+    if isinstance(f, m.Or):
+        return any(_holds(p, state, binding, objects) for p in f.parts)
+    if isinstance(f, m.Not):
+        return not _holds(f.part, state, binding, objects)
+    if isinstance(f, m.Imply):
+        return not _holds(f.condition, state, binding, objects) or _holds(
+            f.consequence, state, binding, objects
+        )
+    if isinstance(f, m.Exists):
+        return any(_holds(f.body, state, b, objects) for b in _bindings(f.variables, binding, objects))
+    if isinstance(f, m.Forall):
+        return all(_holds(f.body, state, b, objects) for b in _bindings(f.variables, binding, objects))
+    raise TypeError(f"not a formula: {f!r}")
+
+
+def _effects(e, state: State, binding: dict[str, str], objects, add: set, delete: set) -> None:
+    """Collect an effect's adds and deletes; conditions are evaluated in the state before."""
+    if isinstance(e, m.Literal):
+        fact = (e.atom.predicate, *_ground(e.atom.args, binding))
+        (delete if e.negated else add).add(fact)
+    elif isinstance(e, m.AndEffect):
+        for part in e.parts:
+            _effects(part, state, binding, objects, add, delete)
+    elif isinstance(e, m.When):
+        if _holds(e.condition, state, binding, objects):
+            _effects(e.effect, state, binding, objects, add, delete)
+    elif isinstance(e, m.ForallEffect):
+        for b in _bindings(e.variables, binding, objects):
+            _effects(e.effect, state, b, objects, add, delete)
+    elif isinstance(e, m.Increase):
+        return
+    else:
+        raise TypeError(f"not an effect: {e!r}")

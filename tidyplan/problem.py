@@ -1,0 +1,146 @@
+"""Belief state to PDDL problem, as ROSPlan's problem interface does: one problem per (re)plan.
+
+The problem is written as text in the dialect for ``domains/tidy.pddl`` and saved beside the
+trace before the planner reads it back, so what was planned on is exactly what a person can
+open, check with ``tidyplan check`` and plan again with ``tidyplan plan``.
+
+Facts, from the belief and the map (``tidyplan.exec.geometry``):
+- where the robot is, what it holds, where each untidied seen item is (``item-at`` its grasp
+  waypoint) and that it is ``located``; tidied items are left out (nothing more to do with them);
+- unseen items as ``:virtual-objects`` with their category; ``unexplored`` viewpoints with
+  ``p-item-near`` for ``assume-item-near``;
+- paths and their lengths, blocked paths and what blocks them, pose adjustments;
+- for every item that may need moving out of the way, the removal waypoint of Algorithm 1,
+  computed from where that item is picked up (``tidyplan.removal``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from tidyplan.belief import Belief
+from tidyplan.exec.geometry import MapFacts, deposit_waypoint
+from tidyplan.removal import Waypoint, removal_waypoint
+
+NOT_FOR_REMOVAL = ("grasp", "deposit", "adjust", "robot")
+
+
+@dataclass(frozen=True, slots=True)
+class Snapshot:
+    """One problem as written: its text, and what the loop needs to read the plan back."""
+
+    text: str
+    facts: MapFacts
+    goal: tuple[str, ...]
+    virtual: tuple[tuple[str, str], ...]
+    robot_waypoint: str
+    removal: dict[str, str]  # item -> removal waypoint (Algorithm 1)
+
+
+def robot_waypoint(facts: MapFacts, belief: Belief) -> str:
+    """The waypoint the robot stands on: its own name for it when that is on the map."""
+    if belief.robot_wp in facts.points and _dist(facts.points[belief.robot_wp], belief.robot) < 0.03:
+        return belief.robot_wp
+    return min(facts.points, key=lambda n: (_dist(facts.points[n], belief.robot), n))
+
+
+def removal_choices(facts: MapFacts, belief: Belief, robot_wp: str) -> dict[str, str]:
+    """Algorithm 1 for each item that could be moved: p_r is where the robot stands when it has
+    the item in hand (its grasp waypoint; the robot's waypoint for the item held now)."""
+    waypoints = [
+        Waypoint(
+            n,
+            *facts.points[n],
+            for_grasping=facts.kind[n] == "grasp",
+            for_delivery=facts.kind[n] == "deposit",
+            reached=n in belief.reached and facts.kind[n] not in NOT_FOR_REMOVAL,
+        )
+        for n in sorted(facts.points)
+    ]
+    origins = dict(facts.grasp)
+    if belief.holding is not None:
+        origins[belief.holding] = robot_wp
+    out = {}
+    for item, origin in sorted(origins.items()):
+        w = removal_waypoint(waypoints, facts.points[origin], lambda a, b, o=origin: _length(facts, o, b))
+        if w is not None:
+            out[item] = w.name
+    return out
+
+
+def write(
+    belief: Belief, facts: MapFacts, goal: Sequence[str], virtual: Sequence[tuple[str, str]], name: str
+) -> Snapshot:
+    """The problem text for the items in ``goal`` (seen names and virtual names)."""
+    robot_wp = robot_waypoint(facts, belief)
+    removal = removal_choices(facts, belief, robot_wp)
+    seen = [k for k in belief.untidied()]
+    p_near = belief.p_item_near(facts) if virtual else {}
+    deposits = belief.scenario.deposits
+    categories = sorted({k.category for k in seen} | {c for _, c in virtual} | {d.category for d in deposits})
+    init = ["(= (total-cost) 0)", f"(robot-at {robot_wp})"]
+    init.append(f"(holding {belief.holding})" if belief.holding else "(hand-empty)")
+    if belief.must_move_back:
+        init.append("(must-move-back)")
+    for k in seen:
+        init.append(f"(of-category {k.name} {k.category})")
+        if k.state == "placed" and k.name in facts.grasp:
+            init.append(f"(item-at {k.name} {facts.grasp[k.name]}) (located {k.name})")
+        elif k.state == "held":
+            init.append(f"(located {k.name})")
+    for v, cat in virtual:
+        init.append(f"(of-category {v} {cat})")
+    for d in deposits:
+        init.append(f"(deposit-at {d.name} {deposit_waypoint(d.name)}) (accepts {d.name} {d.category})")
+    for item, w in removal.items():
+        init.append(f"(removal-waypoint {item} {w})")
+    for w, p in p_near.items():
+        init.append(f"(unexplored {w}) (= (p-item-near {w}) {p})")
+    for (a, b), d in sorted(facts.path.items()):
+        init.append(f"(path {a} {b}) (= (distance {a} {b}) {d:.2f})")
+    for (a, b), d in sorted(facts.blocked.items()):
+        init.append(f"(path {a} {b}) (blocked {a} {b}) (= (distance {a} {b}) {d:.2f})")
+    for item, a, b in sorted(facts.blocks):
+        init.append(f"(blocks {item} {a} {b})")
+    for (a, b), d in sorted(facts.adjust.items()):
+        init.append(f"(pose-adjustment {a} {b}) (= (distance {a} {b}) {d:.2f})")
+    items = [k.name for k in seen]
+    lines = [
+        f";; {name}: written from the belief state by tidyplan (scenario {belief.scenario.name}).",
+        f";; Robot at {robot_wp} {_xy(belief.robot)}; holding {belief.holding or 'nothing'}.",
+        ";; Waypoints (name kind x y):",
+        *(f";;   {n} {facts.kind[n]} {_xy(facts.points[n])}" for n in sorted(facts.points)),
+        *([f";; Out of reach (no grasp pose): {' '.join(facts.unreachable)}"] if facts.unreachable else []),
+        f"(define (problem {name})",
+        "  (:domain tidy)",
+        "  (:objects",
+        "    " + " ".join(sorted(facts.points)) + " - waypoint",
+        *(["    " + " ".join(items) + " - item"] if items else []),
+        "    " + " ".join(d.name for d in deposits) + " - deposit",
+        "    " + " ".join(categories) + " - category)",
+        *(["  (:virtual-objects " + " ".join(v for v, _ in virtual) + " - item)"] if virtual else []),
+        "  (:init",
+        *("    " + fact for fact in init),
+        "  )",
+        "  (:goal (and " + " ".join(f"(tidied {g})" for g in goal) + "))",
+        "  (:metric minimize (total-cost)))",
+        "",
+    ]
+    return Snapshot("\n".join(lines), facts, tuple(goal), tuple(virtual), robot_wp, removal)
+
+
+def _dist(a, b) -> float:
+    return ((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2) ** 0.5
+
+
+def _length(facts: MapFacts, a: str, b_point) -> float | None:
+    """Path length from waypoint a to the waypoint at b_point (Algorithm 1's "nearest")."""
+    for n, q in facts.points.items():
+        if q == b_point:
+            return 0.0 if n == a else facts.distance(a, n)
+    return None
+
+
+def _xy(p) -> str:
+    return f"{p[0]:.2f} {p[1]:.2f}"

@@ -1,0 +1,70 @@
+"""The trace: one JSON object a line, flushed as written, so a killed run leaves a readable file.
+
+Every event has ``v`` (schema version), ``kind``, ``seq`` (0, 1, 2, ...), ``wall_s`` (seconds
+since the run began) and ``sim_s`` (the world's simulated clock). The kinds and their fields
+are documented in docs/trace.md; a reader skips kinds it does not know.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from pathlib import Path
+from typing import Any
+
+SCHEMA_VERSION = 1
+
+
+class TraceWriter:
+    """Append events to a JSON-lines file; the folder beside it holds the PDDL of every plan."""
+
+    def __init__(self, path: str | os.PathLike, clock=lambda: 0.0) -> None:
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.pddl_dir = self.path.with_name(self.path.stem + ".pddl")
+        # Never overwrite: a trace, or the PDDL folder of one, that exists is someone's run.
+        self._file = open(self.path, "x", encoding="utf-8")  # noqa: SIM115 - closed in close()
+        try:
+            self.pddl_dir.mkdir()
+        except FileExistsError:
+            self._file.close()
+            self.path.unlink()
+            raise
+        self._seq = 0
+        self._start = time.perf_counter()
+        self._clock = clock
+        self.listener = None  # called with each event, e.g. to show progress
+
+    def emit(self, kind: str, **fields: Any) -> dict:
+        event = {
+            "v": SCHEMA_VERSION,
+            "seq": self._seq,
+            "kind": kind,
+            "wall_s": round(time.perf_counter() - self._start, 3),
+            "sim_s": round(self._clock(), 2),
+            **fields,
+        }
+        self._seq += 1
+        self._file.write(json.dumps(event, separators=(",", ":")) + "\n")
+        self._file.flush()
+        if self.listener is not None:
+            self.listener(event)
+        return event
+
+    def save(self, name: str, text: str) -> str:
+        """Write a file into the PDDL folder; returns its path relative to the trace's folder."""
+        target = self.pddl_dir / name
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_text(text, encoding="utf-8")
+        return os.path.relpath(target, self.path.parent)
+
+    def close(self) -> None:
+        if not self._file.closed:
+            self._file.close()
+
+    def __enter__(self) -> TraceWriter:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
