@@ -72,6 +72,7 @@ class MapFacts:
     blocked: dict[tuple[str, str], float] = field(default_factory=dict)
     blocks: set[tuple[str, str, str]] = field(default_factory=set)  # (item, from, to)
     adjust: dict[tuple[str, str], float] = field(default_factory=dict)
+    reach_blockers: dict[str, tuple[str, ...]] = field(default_factory=dict)  # grasp wp -> items
 
     def distance(self, a: str, b: str) -> float | None:
         for table in (self.path, self.blocked, self.adjust):
@@ -148,17 +149,17 @@ class RoomMap:
         else one it reaches once floor items are cleared (blocked), else one a pose adjustment
         reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier."""
         # GRASP_MIN keeps poses off the item's own footprint, so the grid with every floor item
-        # serves; the arm reaches straight, so no other floor item may stand in between.
+        # serves. The arm reaches straight: a floor item in between makes a pose usable only
+        # once that item is taken away, like an item lying across a path.
         others_floor = [b for b in floor if b.name != p.name and b.clearance(*p.xy) <= GRASP_MAX]
-        candidates = [
-            c
-            for c in bare.free_cells()
-            if GRASP_MIN <= math.dist(c, p.xy) <= GRASP_MAX
-            and not any(_crosses(c, p.xy, b) for b in others_floor)
-        ]
+        crossing: dict[Point, tuple[str, ...]] = {}
+        for c in bare.free_cells():
+            if GRASP_MIN <= math.dist(c, p.xy) <= GRASP_MAX:
+                crossing[c] = tuple(b.name for b in others_floor if _crosses(c, p.xy, b))
         others = [q for n, q in facts.points.items() if facts.kind[n] in ("grasp", "adjust")]
-        candidates = [c for c in candidates if all(math.dist(c, q) >= 0.1 for q in others)]
-        rank = lambda c: (abs(math.dist(c, p.xy) - GRASP_BEST), c)  # noqa: E731
+        crossing = {c: x for c, x in crossing.items() if all(math.dist(c, q) >= 0.1 for q in others)}
+        candidates = [c for c, x in crossing.items() if not x]
+        rank = lambda c: (len(crossing[c]), abs(math.dist(c, p.xy) - GRASP_BEST), c)  # noqa: E731
         name = grasp_waypoint(p.name)
         now = [c for c in candidates if c in reachable]
         if previous in now:
@@ -168,12 +169,15 @@ class RoomMap:
             facts.grasp[p.name] = name
             return
         room = set(static.free_cells(reachable_from=self.entrance))
-        later = [c for c in candidates if c in room]
+        later = [c for c in crossing if c in room]
         if previous in later:
             later = [previous]
         if later:
-            facts.points[name], facts.kind[name] = min(later, key=rank), "grasp"
+            c = min(later, key=rank)
+            facts.points[name], facts.kind[name] = c, "grasp"
             facts.grasp[p.name] = name
+            if crossing[c]:
+                facts.reach_blockers[name] = crossing[c]
             return
         tight = []
         for c in candidates:
@@ -213,6 +217,13 @@ class RoomMap:
                 self._adjust_into(facts, n, nav)
         if blocked_pairs:
             self._blockers(facts, items, names, pts, blocked_pairs)
+        # A grasp pose whose reach crosses a floor item is entered only once that item is gone.
+        for g, who in facts.reach_blockers.items():
+            for a in names:
+                if (a, g) in facts.path:
+                    facts.blocked[(a, g)] = facts.path.pop((a, g))
+                if (a, g) in facts.blocked:
+                    facts.blocks.update((item, a, g) for item in who)
 
     def _adjust_into(self, facts: MapFacts, name: str, nav: OccupancyGrid) -> None:
         target = facts.points[name]

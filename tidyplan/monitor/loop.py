@@ -198,12 +198,12 @@ class Mission:
         out = [("all", seen + [v for v, _ in virtual], virtual)]
         if virtual:
             out.append(("seen", seen, []))
-        self._facts = facts
+        self._facts, self._seen = facts, seen
         return out + [("feasible", None, [])]
 
     def _plan(self, goal, virtual, cause, why, label) -> tuple[PlanResult, Snapshot]:
         if goal is None:  # the items that have a plan alone
-            goal = [g for g in self._goals()[1 if self.belief.virtual() else 0][1] if self._alone(g)]
+            goal = [g for g in self._seen if self._alone(g)]
             if not goal:
                 return PlanResult(Status.NO_PLAN, (), None, None, (), 0.0, "", "nothing feasible"), None
         n = self.count.replans
