@@ -52,6 +52,8 @@ class Known:
     on: str = "floor"
     sx: float = 0.08
     sy: float = 0.08
+    sz: float = 0.10
+    sz: float = 0.10
     state: str = "placed"
     misses: int = 0
     deposit: str | None = None
@@ -71,6 +73,7 @@ class Detection:
     on: str = "floor"
     sx: float = 0.08
     sy: float = 0.08
+    sz: float = 0.10
 
 
 @dataclass(slots=True)
@@ -178,7 +181,7 @@ class Belief:
             if name is None:
                 self._serial[d.category] += 1
                 name = f"{d.category}-{self._serial[d.category]}"
-            self.items[name] = Known(name, d.category, d.x, d.y, d.on, d.sx, d.sy)
+            self.items[name] = Known(name, d.category, d.x, d.y, d.on, d.sx, d.sy, d.sz)
             matched.add(name)
             update.new.append(name)
         for k in self.untidied():
@@ -243,10 +246,17 @@ class Belief:
         z = 0.05 if k.on == "floor" else self.scenario.furniture_named(k.on).height + 0.05
         if math.dist(self.robot, (k.x, k.y)) > MISS_RANGE:
             return False
-        occ = [b for b in self._occluders if b.name != k.on]
+        # Furniture, and the items it knows of, may hide k: a miss behind them is no evidence.
+        occ = [b for b in self._occluders if b.name != k.on] + [
+            self._box3(o) for o in self.untidied() if o.state == "placed" and o is not k
+        ]
         return visible(
             self._camera(self.robot), (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max
         )
+
+    def _box3(self, k: Known) -> Box3:
+        z = 0.0 if k.on == "floor" else self.scenario.furniture_named(k.on).height
+        return Box3(k.x - k.sx / 2, k.x + k.sx / 2, k.y - k.sy / 2, k.y + k.sy / 2, z, z + k.sz, k.name)
 
     def _camera(self, p: Point) -> tuple[float, float, float]:
         return (p[0], p[1], self.scenario.sensing.camera_height)

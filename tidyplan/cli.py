@@ -1,4 +1,4 @@
-"""The `tidyplan` command: check, plan, compile.
+"""The `tidyplan` command: check, plan, compile (here), run and reproduce (cli_run.py).
 
 Only this module turns errors into exit statuses: 0 success, 1 no plan,
 2 bad input (a file, an option), never a traceback for either.
@@ -15,6 +15,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+from . import cli_run
 from .errors import Diagnostic, InputError, PlannerError, TidyplanError
 
 COMPILED_HEADER = "; plain PDDL compiled by tidyplan"
@@ -66,6 +67,7 @@ def _parser() -> argparse.ArgumentParser:
     co.add_argument("--out", required=True, metavar="DIR")
     co.add_argument("--max-stratum", type=_stratum, default=None, metavar="K", help="keep strata 1..K only")
     co.add_argument("--force", action="store_true", help="overwrite files there that tidyplan did not write")
+    cli_run.add_parsers(sub, _positive)
     return p
 
 
@@ -222,7 +224,13 @@ def _refuse_overwrite(targets: dict[Path, str], inputs: list[str], force: bool) 
                 )
 
 
-COMMANDS = {"check": cmd_check, "plan": cmd_plan, "compile": cmd_compile}
+COMMANDS = {
+    "check": cmd_check,
+    "plan": cmd_plan,
+    "compile": cmd_compile,
+    "run": cli_run.cmd_run,
+    "reproduce": cli_run.cmd_reproduce,
+}
 
 
 class Terminated(BaseException):

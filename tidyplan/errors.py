@@ -25,6 +25,8 @@ class Diagnostic:
 
     def __str__(self) -> str:
         text = f"warning: {self.message}" if self.warning else self.message
+        if not text:  # a message that carries its own place, e.g. "--faults: ..."
+            return self.path
         if self.line is None:
             return f"{self.path}: {text}"
         return f"{self.path}:{self.line}:{self.col}: {text}"
@@ -35,7 +37,7 @@ class InputError(TidyplanError):
 
     def __init__(self, diagnostics: list[Diagnostic] | Diagnostic | str) -> None:
         if isinstance(diagnostics, str):
-            diagnostics = [Diagnostic(diagnostics, None, None, "invalid input")]
+            diagnostics = [Diagnostic(diagnostics, None, None, "")]
         elif isinstance(diagnostics, Diagnostic):
             diagnostics = [diagnostics]
         self.diagnostics: list[Diagnostic] = diagnostics

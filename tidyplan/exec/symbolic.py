@@ -110,7 +110,7 @@ class SymbolicWorld:
             z = self._base_z(it) + it.sz / 2
             miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
             if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max) and not miss:
-                out.append(Detection(it.category, it.x, it.y, it.on, it.sx, it.sy))
+                out.append(Detection(it.category, it.x, it.y, it.on, it.sx, it.sy, it.sz))
         if self.rng.random() < self.fp:
             angle = self.rng.uniform(0, 2 * math.pi)
             dist = self.rng.uniform(s.range_min, min(s.range_max, 2.0))

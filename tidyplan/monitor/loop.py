@@ -139,14 +139,17 @@ class Mission:
         state = self._belief_state()
         end, broken = self.sim.run(state, ((s.name, s.args) for s in self.steps))
         done = {k.name for k in self.belief.items.values() if k.state == "tidied"}
+        if broken == 0:  # (i): the very next action cannot run
+            why = f"{_text(self.steps[0])} not applicable"
+            if not report.ok:
+                why += f" after {_text(step)} failed ({report.failure})"
+            return self._replan(Cause.PRECONDITION, why)
         if broken is not None or not all(("tidied", g) in end or g in done for g in self.goal):
             why = (
                 f"step {broken} {_text(self.steps[broken])} fails"
                 if broken is not None
                 else "goal not reached"
             )
-            if broken == 0 and not report.ok:
-                why = f"{_text(step)} failed ({report.failure})"
             return self._replan(Cause.PLAN_INVALID, why)
         if new or not report.ok:
             self.count.replans_avoided += 1

@@ -1,0 +1,224 @@
+"""`tidyplan run` and `tidyplan reproduce`: missions from scenario files, and the papers' tables.
+
+Kept apart from cli.py (check/plan/compile) so each stays small; cli.py registers both.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+
+from sim.scenario import ScenarioError, load
+from tidyplan.errors import Diagnostic, InputError
+from tidyplan.exec.symbolic import Rates
+from tidyplan.monitor.loop import STRATEGIES
+
+ROOT = Path(__file__).resolve().parent.parent
+DEFAULT_SCENARIO = ROOT / "problems" / "case3.toml"
+CASES = {"I": "case1.toml", "II": "case2.toml", "III": "case3.toml"}
+# Yan et al., Table II: uses of P1, P2, P3 and total actions per case (O-FSM scenario planning)
+TABLE2 = {"I": (12, 0, 0, 36), "II": (10, 1, 1, 45), "III": (11, 0, 1, 52)}
+# Faults the symbolic world injects so far, as rates; the execution monitor adds the rest.
+FAULTS = {
+    "grasp_fail": "a grasp fails (take_object)",
+    "place_fail": "a placement fails (deliver_it, drop_object)",
+    "perception_miss": "a visible object is not detected (false negative)",
+    "perception_false": "a look reports an object that is not there (false positive)",
+}
+
+
+def add_parsers(sub, positive) -> None:
+    r = sub.add_parser("run", help="run a monitored tidy-up mission and write its trace")
+    r.add_argument(
+        "scenario", nargs="?", help=f"scenario file (default: {DEFAULT_SCENARIO.relative_to(ROOT)})"
+    )
+    r.add_argument(
+        "--world",
+        choices=("symbolic",),
+        default="symbolic",
+        help="the world to run in (the pybullet world is not built yet)",
+    )
+    r.add_argument(
+        "--strategy",
+        choices=sorted(STRATEGIES),
+        default="ofsm",
+        help="ofsm: strata P1, P2, P3; greedy: P1 only",
+    )
+    r.add_argument("--seed", type=int, default=0)
+    r.add_argument("--faults", default="", metavar="K=V,...", help="fault rates: " + ", ".join(FAULTS))
+    r.add_argument("--trace", metavar="FILE", help="trace file to write (default: runs/<scenario>-...)")
+    r.add_argument(
+        "--time-budget",
+        type=positive,
+        default=1.0,
+        metavar="SECONDS",
+        help="planning time per (re)plan (default 1.0)",
+    )
+    r.add_argument(
+        "--min-probability",
+        type=positive,
+        default=1e-4,
+        metavar="P",
+        help="give up when the best plan's success probability is below P (default 1e-4)",
+    )
+    r.add_argument("--gui", action="store_true", help="open the pybullet window (pybullet world only)")
+    r.add_argument("--json", action="store_true", help="print the summary as one JSON object, last")
+    r.add_argument("--quiet", action="store_true", help="no progress lines")
+
+    rp = sub.add_parser("reproduce", help="regenerate a table of the O-FSM paper from our own runs")
+    rp.add_argument("table", choices=("table2",))
+    rp.add_argument("--seed", type=int, default=0)
+    rp.add_argument("--time-budget", type=positive, default=1.0, metavar="SECONDS")
+    rp.add_argument("--out", default="runs", metavar="DIR", help="folder for the traces (default runs/)")
+    rp.add_argument("--json", action="store_true")
+
+
+def parse_faults(text: str) -> Rates:
+    rates: dict[str, float] = {}
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        key, sep, value = part.partition("=")
+        if not sep:
+            raise InputError(f"--faults: {part!r} is not NAME=RATE")
+        if key not in FAULTS:
+            raise InputError(f"--faults: unknown fault {key!r}; known: {', '.join(FAULTS)}")
+        try:
+            rate = float(value)
+        except ValueError:
+            raise InputError(f"--faults: {key}={value!r}: the rate is not a number") from None
+        if not 0.0 <= rate <= 1.0:
+            raise InputError(f"--faults: {key}={value}: the rate must be in [0, 1]")
+        rates[key] = rate
+    return Rates(
+        take=1.0 - rates.get("grasp_fail", 0.05),
+        deliver=1.0 - rates.get("place_fail", 0.02),
+        drop=1.0 - rates.get("place_fail", 0.02),
+        false_negative=rates.get("perception_miss"),
+        false_positive=rates.get("perception_false"),
+    )
+
+
+def _scenario(path: str | Path):
+    try:
+        return load(path)
+    except ScenarioError as e:
+        raise InputError([Diagnostic(m, None, None, "") for m in e.messages]) from None
+
+
+def _trace_path(folder: Path, stem: str) -> Path:
+    """A fresh file name: runs are never overwritten."""
+    folder.mkdir(parents=True, exist_ok=True)
+    base = f"{stem}-{time.strftime('%Y%m%d-%H%M%S')}"
+    path, n = folder / f"{base}.jsonl", 1
+    while path.exists() or path.with_suffix(".pddl").exists():
+        n += 1
+        path = folder / f"{base}-{n}.jsonl"
+    return path
+
+
+def cmd_run(args) -> int:
+    from tidyplan.mission import Settings, run  # the planner stack loads only when needed
+
+    if args.gui:
+        raise InputError("--gui: the pybullet world is not built yet; run with --world symbolic")
+    scenario = _scenario(args.scenario or DEFAULT_SCENARIO)
+    rates = parse_faults(args.faults)
+    trace = (
+        Path(args.trace)
+        if args.trace
+        else _trace_path(Path("runs"), f"{scenario.name}-{args.strategy}-s{args.seed}")
+    )
+    if trace.exists() or trace.with_suffix(".pddl").exists():
+        raise InputError(f"{trace}: exists; a trace is never overwritten (choose another --trace)")
+    settings = Settings(
+        args.strategy,
+        args.seed,
+        time_budget=args.time_budget,
+        min_probability=args.min_probability,
+        rates=rates,
+    )
+    show = None if args.quiet else _progress(len(scenario.items))
+    summary = run(scenario, trace, settings, on_event=show)
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        _print_summary(summary)
+    return 0 if summary["success"] else 1
+
+
+def _progress(total: int):
+    tidied = [0]
+
+    def show(e: dict) -> None:
+        if e["kind"] == "plan":
+            p = e["probability"]
+            print(
+                f"[{e['sim_s']:7.1f} s] plan {e['replan']} ({e['cause']}): {e['status']}"
+                + (f", P{e['stratum']}, {len(e['plan'])} steps, p {p:.3g}" if p is not None else "")
+                + f", {e['planning_time_s']:.2f} s",
+                file=sys.stderr,
+            )
+        elif e["kind"] == "action" and e["ok"] and e["action"].startswith("(deliver_it"):
+            tidied[0] += 1
+            print(f"[{e['sim_s']:7.1f} s] tidied {tidied[0]}/{total}: {e['action']}", file=sys.stderr)
+        elif e["kind"] == "end":
+            print(f"[{e['sim_s']:7.1f} s] end: {e['reason']}", file=sys.stderr)
+
+    return show
+
+
+def _print_summary(s: dict) -> None:
+    strata = ", ".join(f"{k} {v}" for k, v in s["strata"].items())
+    causes = ", ".join(f"{k} {v}" for k, v in s["replan_causes"].items()) or "none"
+    print(
+        f"{s['scenario']} ({s['strategy']}, seed {s['seed']}): "
+        f"{'success' if s['success'] else 'FAILED'}: {s['reason']}"
+    )
+    print(
+        f"delivered {s['delivered']}/{s['objects']}, lost {s['lost_objects']}; "
+        f"{s['actions']} actions ({s['paper_actions']} counted as Yan et al. do); plans by stratum: {strata}"
+    )
+    print(f"replans {s['replans']} ({causes}); kept {s['replans_avoided']} plans that stayed valid")
+    print(
+        f"distance {s['distance_m']} m, simulated time {s['sim_time_s']} s, wall time {s['wall_time_s']} s, "
+        f"replanning median {s['replan_time_s']['median']} s, max {s['replan_time_s']['max']} s"
+    )
+    print(f"trace {s['trace']}")
+
+
+def cmd_reproduce(args) -> int:
+    from tidyplan.mission import Settings, run
+
+    rows = []
+    for case, file in CASES.items():
+        scenario = _scenario(ROOT / "problems" / file)
+        out = {}
+        for strategy in ("ofsm", "greedy"):
+            trace = _trace_path(Path(args.out), f"table2-{scenario.name}-{strategy}-s{args.seed}")
+            print(f"case {case}, {strategy} ...", file=sys.stderr)
+            out[strategy] = run(scenario, trace, Settings(strategy, args.seed, time_budget=args.time_budget))
+        rows.append((case, out))
+    if args.json:
+        print(json.dumps([{"case": c, **{k: v for k, v in o.items()}} for c, o in rows]))
+        return 0
+    print(f"Table II (Yan et al.), O-FSM scenario planning: paper | ours (symbolic world, seed {args.seed})")
+    print(
+        f"{'case':5} {'P1':>9} {'P2':>9} {'P3':>9} {'actions':>11} {'ours: all actions':>18} "
+        f"{'replans':>8} {'tidied':>7} {'greedy':>12}"
+    )
+    for case, o in rows:
+        s, g = o["ofsm"], o["greedy"]
+        p1, p2, p3, total = TABLE2[case]
+        st = s["strata"]
+        greedy = "tidies all" if g["success"] else f"fails {g['delivered']}/{g['objects']}"
+        print(
+            f"{case:5} {p1:>4} | {st['P1']:<2} {p2:>4} | {st['P2']:<2} {p3:>4} | {st['P3']:<2} "
+            f"{total:>5} | {s['paper_actions']:<3} {s['actions']:>18} {s['replans']:>8} "
+            f"{s['delivered']:>4}/{s['objects']:<2} {greedy:>12}"
+        )
+    print(
+        "actions: Yan et al.'s count (take_object includes the approach; P1 = 3, P2 = 4, P3 = 4 per "
+        "object moved aside + 3); 'all actions' counts every executed action, moves to objects included."
+    )
+    return 0 if all(o["ofsm"]["success"] for _, o in rows) else 1
