@@ -115,12 +115,16 @@ def test_readme_opens_with_exactly_two_commands():
 
 @pytest.mark.slow
 def test_readmes_main_command_runs(tidyplan_cmd):
-    """The part after the install: the installed package is already under test."""
+    """The part after the install: the installed package is already under test. It runs the
+    default mission (case III) and writes its trace under runs/ (ignored by git)."""
     command = shlex.split(_readme_commands()[0].split("&&", 1)[1].strip())
     assert command[0] == "tidyplan"
-    done = subprocess.run(tidyplan_cmd + command[1:], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    before = set((ROOT / "runs").glob("*.jsonl")) if (ROOT / "runs").exists() else set()
+    done = subprocess.run(tidyplan_cmd + command[1:], cwd=ROOT, capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stderr
-    assert "drop_object" in done.stdout and "stratum P3" in done.stdout
+    assert "tidied 12/12" in done.stderr and "success" in done.stdout
+    new = set((ROOT / "runs").glob("*.jsonl")) - before
+    assert len(new) == 1 and f"trace {new.pop().relative_to(ROOT)}" in done.stdout
 
 
 @pytest.mark.slow

@@ -190,7 +190,8 @@ def test_gives_up_when_the_best_plan_is_too_unlikely(tmp_path):
 def test_gives_up_when_no_plan_exists(tmp_path):
     # A toy walled in by furniture: no grasp pose, no plan, and the loop says which toy.
     walls = "".join(
-        f'[[furniture]]\nname = "w{k}"\ncenter = [{x}, {y}]\nsize = [{sx}, {sy}]\nheight = 0.3\nkind = "wall"\n'
+        f'[[furniture]]\nname = "w{k}"\ncenter = [{x}, {y}]\nsize = [{sx}, {sy}]\n'
+        'height = 0.3\nkind = "wall"\n'
         for k, (x, y, sx, sy) in enumerate([(2.0, 2.6, 0.1, 0.8), (2.5, 2.15, 1.0, 0.1)])
     )
     scenario = _scenario("walled", [("t1", 2.6, 2.6)], walls)

@@ -16,7 +16,7 @@ from tidyplan.exec.symbolic import Rates
 from tidyplan.monitor.loop import STRATEGIES
 
 ROOT = Path(__file__).resolve().parent.parent
-DEFAULT_SCENARIO = ROOT / "problems" / "case3.toml"
+DEFAULT_SCENARIO = "problems/case3.toml"
 CASES = {"I": "case1.toml", "II": "case2.toml", "III": "case3.toml"}
 # Yan et al., Table II: uses of P1, P2, P3 and total actions per case (O-FSM scenario planning)
 TABLE2 = {"I": (12, 0, 0, 36), "II": (10, 1, 1, 45), "III": (11, 0, 1, 52)}
@@ -31,9 +31,7 @@ FAULTS = {
 
 def add_parsers(sub, positive) -> None:
     r = sub.add_parser("run", help="run a monitored tidy-up mission and write its trace")
-    r.add_argument(
-        "scenario", nargs="?", help=f"scenario file (default: {DEFAULT_SCENARIO.relative_to(ROOT)})"
-    )
+    r.add_argument("scenario", nargs="?", help=f"scenario file (default: {DEFAULT_SCENARIO})")
     r.add_argument(
         "--world",
         choices=("symbolic",),
@@ -122,7 +120,9 @@ def cmd_run(args) -> int:
 
     if args.gui:
         raise InputError("--gui: the pybullet world is not built yet; run with --world symbolic")
-    scenario = _scenario(args.scenario or DEFAULT_SCENARIO)
+    from tidyplan.mission import project_file
+
+    scenario = _scenario(args.scenario or project_file(DEFAULT_SCENARIO))
     rates = parse_faults(args.faults)
     trace = (
         Path(args.trace)
@@ -188,11 +188,11 @@ def _print_summary(s: dict) -> None:
 
 
 def cmd_reproduce(args) -> int:
-    from tidyplan.mission import Settings, run
+    from tidyplan.mission import Settings, project_file, run
 
     rows = []
     for case, file in CASES.items():
-        scenario = _scenario(ROOT / "problems" / file)
+        scenario = _scenario(project_file(f"problems/{file}"))
         out = {}
         for strategy in ("ofsm", "greedy"):
             trace = _trace_path(Path(args.out), f"table2-{scenario.name}-{strategy}-s{args.seed}")

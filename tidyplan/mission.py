@@ -17,11 +17,20 @@ from tidyplan.exec.bindings import DirectExecutor
 from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.symbolic import Rates, SymbolicWorld
 from tidyplan.monitor.loop import LoopConfig, Mission
-from tidyplan.planner import plan
+from tidyplan.planner import Status, plan
 from tidyplan.trace import TraceWriter
 
-DOMAIN = Path(__file__).resolve().parent.parent / "domains" / "tidy.pddl"
-DEFAULT_SCENARIO = Path(__file__).resolve().parent.parent / "problems" / "case3.toml"
+RETRIES = 3  # budgets 1x, 3x, 9x
+
+
+def project_file(relative: str) -> Path:
+    """A file of the project (domains/, problems/): beside the package in a clone or an editable
+    install; from the working directory when the package was installed into site-packages."""
+    beside = Path(__file__).resolve().parent.parent / relative
+    return beside if beside.exists() else Path.cwd() / relative
+
+
+DOMAIN = project_file("domains/tidy.pddl")
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,7 +59,15 @@ def run(
     belief = Belief(scenario, room)
 
     def planner(d, p, max_stratum):
-        return plan(d, p, settings.planner, settings.time_budget, max_stratum)
+        # A search that ran out of time proves nothing: try again with more time before the
+        # loop takes "no plan" for an answer (narrowing the goal, or giving up).
+        budget = settings.time_budget
+        for _ in range(RETRIES):
+            result = plan(d, p, settings.planner, budget, max_stratum)
+            if result.status is not Status.UNKNOWN:
+                break
+            budget *= 3
+        return result
 
     with TraceWriter(trace_path, clock=lambda: world.odometer.sim_time_s) as trace:
         if on_event is not None:

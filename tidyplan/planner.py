@@ -160,6 +160,10 @@ def _solve_once(sub: CompiledTask, task: CompiledTask, engine: Engine, deadline:
         return Outcome.UNSOLVABLE, None
     if result.status in (UpStatus.UNSOLVABLE_INCOMPLETELY, UpStatus.TIMEOUT, UpStatus.MEMOUT):
         return Outcome.GAVE_UP, None  # an incomplete search that found nothing proves nothing
+    if time.perf_counter() >= deadline - CLEANUP_TIME:
+        # Killed at the deadline mid-translation, FD reports an internal error: out of time.
+        messages.append(f"{engine.up_name} ran out of time")
+        return Outcome.GAVE_UP, None
     log = " ".join(lm.message for lm in result.log_messages or [] if lm.message)
     messages.append(f"{engine.up_name} ended with {result.status.name}: {log.strip()[-300:]}")
     return Outcome.ERROR, None

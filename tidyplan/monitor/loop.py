@@ -174,6 +174,8 @@ class Mission:
             return f"plan limit {self.config.max_plans} reached"
         self.pending.clear()
         self.bound.clear()
+        if not self.belief.untidied() and not self.belief.virtual():
+            return self._finished()  # e.g. the last item believed was a false detection
         attempts = self._goals()
         for label, goal, virtual in attempts:
             if not goal:
