@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from sim.scenario import load
+from sim.scenario_file import load
 from sim.visibility import visible_items
 from tidyplan.exec.geometry import ENTRANCE, Placed, RoomMap, deposit_waypoint
 from tidyplan.mission import Settings, run

@@ -13,7 +13,7 @@ from dataclasses import replace
 
 import pytest
 
-from sim.scenario import loads
+from sim.scenario_file import loads
 from tidyplan.exec.bindings import DirectExecutor, Report
 from tidyplan.exec.symbolic import Outcome, Rates, SymbolicWorld
 from tidyplan.mission import Settings, run

@@ -13,9 +13,8 @@ from sim.scenario import (
     ScenarioError,
     Sensing,
     Viewpoint,
-    load,
-    loads,
 )
+from sim.scenario_file import load, loads
 
 MINIMAL = """\
 schema = 1

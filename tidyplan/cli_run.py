@@ -10,7 +10,8 @@ import sys
 import time
 from pathlib import Path
 
-from sim.scenario import ScenarioError, load
+from sim.scenario import ScenarioError
+from sim.scenario_file import load
 from tidyplan.errors import Diagnostic, InputError
 from tidyplan.exec.symbolic import Rates
 from tidyplan.monitor.loop import STRATEGIES

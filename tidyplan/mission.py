@@ -11,7 +11,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from sim.scenario import Scenario, load
+from sim.scenario import Scenario
+from sim.scenario_file import load
 from tidyplan.belief import Belief
 from tidyplan.exec.bindings import DirectExecutor
 from tidyplan.exec.geometry import RoomMap

@@ -1,0 +1,380 @@
+"""Reading scenario files: TOML text to checked ``sim.scenario`` values, every problem reported.
+
+Why collect every problem: a scenario is written by hand and checked by running it; one message
+per run makes fixing a file a loop. Each message is ``path: key path: what is wrong`` (or
+``path:line:col: what`` for TOML syntax), the form tidyplan's own diagnostics take, but this
+module raises its own ``ScenarioError``: ``sim`` knows nothing of tidyplan.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import re
+import tomllib
+from collections.abc import Callable
+from typing import Any
+
+from sim.grid import Box
+from sim.scenario import (
+    FLOOR,
+    ITEM_SIZE,
+    NAME_RE,
+    SCHEMA,
+    Deposit,
+    Expect,
+    Furniture,
+    Item,
+    Robot,
+    Scenario,
+    ScenarioError,
+    Sensing,
+    Viewpoint,
+)
+
+
+def load(path: str | os.PathLike[str]) -> Scenario:
+    """Read and check a scenario file; ScenarioError lists every problem found."""
+    where = os.fspath(path)
+    if os.path.isdir(where):
+        raise ScenarioError([f"{where}: is a directory, not a scenario file"])
+    try:
+        with open(where, "rb") as fh:
+            data = fh.read()
+    except FileNotFoundError:
+        raise ScenarioError([f"{where}: no such file"]) from None
+    except OSError as e:
+        raise ScenarioError([f"{where}: cannot read: {e.strerror}"]) from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise ScenarioError([f"{where}: not UTF-8 text (bad byte at offset {e.start})"]) from None
+    return loads(text, where)
+
+
+def loads(text: str, path: str = "<string>") -> Scenario:
+    """Parse and check scenario text; ``path`` only labels the messages and ``Scenario.path``."""
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise ScenarioError([_syntax_message(path, text, str(e))]) from None
+    return _Reader(path).scenario(doc)
+
+
+def _syntax_message(path: str, text: str, message: str) -> str:
+    """``path:line:col: what`` from tomllib's "what (at line L, column C)"."""
+    m = re.fullmatch(r"(.*) \(at line (\d+), column (\d+)\)", message, re.S)
+    if m:
+        return f"{path}:{m[2]}:{m[3]}: {m[1]}"
+    m = re.fullmatch(r"(.*) \(at end of document\)", message, re.S)
+    if m:  # point just past the last character
+        line, col = text.count("\n") + 1, len(text) - text.rfind("\n")
+        return f"{path}:{line}:{col}: {m[1]} (at end of document)"
+    return f"{path}: {message}"
+
+
+_REQUIRED: Any = object()
+_Check = Callable[[float], str | None]
+
+
+def _range(lo: float, hi: float = math.inf, *, open_lo: bool = True, what: str = "") -> _Check:
+    """A check that a number lies in (lo, hi] (or [lo, hi] when not ``open_lo``)."""
+    text = what or (
+        f"must be {'>' if open_lo else '>='} {lo:g}"
+        if hi == math.inf
+        else f"must be in {'(' if open_lo else '['}{lo:g}, {hi:g}]"
+    )
+    return lambda v: None if (lo < v if open_lo else lo <= v) and v <= hi else text
+
+
+def _is_number(v: Any) -> bool:
+    """int or float, finite; TOML's true/false are not numbers here."""
+    return not isinstance(v, bool) and isinstance(v, int | float) and math.isfinite(v)
+
+
+def _key(where: str, key: str) -> str:
+    return f"{where}.{key}" if where else key
+
+
+def _fmt(p: tuple[float, ...]) -> str:
+    return "(" + ", ".join(f"{v:g}" for v in p) + ")"
+
+
+_positive, _non_negative = _range(0), _range(0, open_lo=False)
+_probability = _range(0, 1, open_lo=False, what="must be a probability in [0, 1]")
+_ROBOT_CHECKS = {"radius": _positive, "nav_margin": _non_negative, "speed": _positive}
+_SENSING_CHECKS = {
+    "range_min": _non_negative,
+    "range_max": _positive,
+    "fov_h_deg": _range(0, 360),
+    "fov_v_deg": _range(0, 180),
+    "false_negative": _probability,
+    "false_positive": _probability,
+    "camera_height": _positive,
+}
+_TOP = ("schema", "name", "title", "description", "room", "robot", "sensing")
+_ARRAYS = ("furniture", "deposit", "item", "viewpoint")
+_A = {"furniture": "a furniture piece", "deposit": "a deposit", "item": "an item", "viewpoint": "a viewpoint"}
+_EXPECT = tuple(f.name for f in dataclasses.fields(Expect))
+
+
+class _Reader:
+    """One pass over a parsed document, collecting messages instead of stopping at the first.
+
+    Getters return None for a missing or malformed value (after saying so), so later checks
+    that need the value skip instead of piling consequential messages on the first one.
+    """
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self.messages: list[str] = []
+
+    def error(self, where: str, what: str) -> None:
+        self.messages.append(f"{self.path}: {where}: {what}" if where else f"{self.path}: {what}")
+
+    # ------------------------------------------------------------------ values
+    def keys(self, table: dict[str, Any], where: str, known: tuple[str, ...]) -> None:
+        for k in table:
+            if k not in known:
+                self.error(_key(where, k), f"unknown key (known: {', '.join(sorted(known))})")
+
+    def value(self, table: dict[str, Any], where: str, key: str, default: Any) -> tuple[bool, Any]:
+        """(True, value) when the key is there; else (False, default), saying so when it is required."""
+        if key in table:
+            return True, table[key]
+        if default is _REQUIRED:
+            self.error(_key(where, key), "missing required key")
+            return False, None
+        return False, default
+
+    def number(
+        self, table: dict, where: str, key: str, default: Any = _REQUIRED, check: _Check | None = None
+    ):
+        present, v = self.value(table, where, key, default)
+        if not present:
+            return v
+        if not _is_number(v):
+            self.error(_key(where, key), f"must be a finite number, got {v!r}")
+            return None
+        problem = check(v) if check else None
+        if problem:
+            self.error(_key(where, key), f"{problem}, got {v:g}")
+            return None
+        return float(v)
+
+    def vector(self, table: dict, where: str, key: str, shape: str, default: Any = _REQUIRED, positive=False):
+        """A list of numbers; ``shape`` such as "[x, y]" says how many and what they mean."""
+        present, v = self.value(table, where, key, default)
+        if not present:
+            return v
+        n = shape.count(",") + 1
+        if not isinstance(v, list) or len(v) != n or not all(_is_number(x) for x in v):
+            self.error(_key(where, key), f"must be a list of {n} numbers {shape}, got {v!r}")
+            return None
+        if positive and min(v) <= 0:
+            self.error(_key(where, key), f"sizes must be > 0, got {_fmt(tuple(v))}")
+            return None
+        return tuple(float(x) for x in v)
+
+    def string(self, table: dict, where: str, key: str, default: Any = _REQUIRED, name: bool = False):
+        present, v = self.value(table, where, key, default)
+        if not present:
+            return v
+        if not isinstance(v, str):
+            self.error(_key(where, key), f"must be a string, got {v!r}")
+            return None
+        if name and not NAME_RE.fullmatch(v):
+            self.error(_key(where, key), f"{v!r} must match [a-z][a-z0-9_-]* (it becomes a PDDL name)")
+            return None
+        return v
+
+    def table(self, doc: dict, key: str, required: bool) -> dict | None:
+        present, v = self.value(doc, "", key, _REQUIRED if required else {})
+        if present and not isinstance(v, dict):
+            self.error(key, f"must be a table ([{key}]), got {v!r}")
+            return None
+        return v
+
+    def entries(self, doc: dict, key: str) -> list[tuple[int, str, dict]]:
+        """(index, label, table) per [[key]] entry; the label names the entry in messages."""
+        v = doc.get(key, [])
+        if not isinstance(v, list):
+            self.error(key, f"must be an array of tables ([[{key}]]), got {v!r}")
+            return []
+        out = []
+        for i, t in enumerate(v):
+            if not isinstance(t, dict):
+                self.error(f"{key}[{i}]", f"must be a table ([[{key}]]), got {t!r}")
+                continue
+            n = t.get("name")
+            out.append(
+                (i, f'{key} "{n}"' if isinstance(n, str) and NAME_RE.fullmatch(n) else f"{key}[{i}]", t)
+            )
+        return out
+
+    def inside(self, where: str, p: tuple[float, ...] | None, bounds: tuple | None) -> None:
+        if p is None or bounds is None:
+            return
+        x0, x1, y0, y1 = bounds
+        if not (x0 <= p[0] <= x1 and y0 <= p[1] <= y1):
+            self.error(where, f"{_fmt(p[:2])} is outside the room bounds {_fmt(bounds)}")
+
+    def settings(self, doc: dict, key: str, cls: type, checks: dict[str, _Check]) -> Any:
+        """A [robot] or [sensing] table: every field optional, defaults from ``cls``."""
+        t = self.table(doc, key, required=False)
+        if t is None:
+            return cls()
+        self.keys(t, key, tuple(checks))
+        before = len(self.messages)
+        values = {
+            f.name: self.number(t, key, f.name, f.default, checks[f.name]) for f in dataclasses.fields(cls)
+        }
+        return cls(**values) if len(self.messages) == before else None
+
+    # ------------------------------------------------------------------ the document
+    def scenario(self, doc: dict[str, Any]) -> Scenario:
+        self.keys(doc, "", _TOP + _ARRAYS + ("expect",))
+        present, schema = self.value(doc, "", "schema", _REQUIRED)
+        if present and (isinstance(schema, bool) or schema != SCHEMA):
+            # another version's keys would only produce noise: this is the one message
+            raise ScenarioError(
+                [f"{self.path}: schema: unknown schema version {schema!r}; this tidyplan reads 1"]
+            )
+        name = self.string(doc, "", "name", name=True)
+        title = self.string(doc, "", "title")
+        description = self.string(doc, "", "description", "")
+        bounds = entrance = None
+        heading = 0.0
+        room = self.table(doc, "room", required=True)
+        if room is not None:
+            self.keys(room, "room", ("bounds", "entrance", "heading_deg"))
+            bounds = self.vector(room, "room", "bounds", "[x0, x1, y0, y1]")
+            if bounds is not None and not (bounds[0] < bounds[1] and bounds[2] < bounds[3]):
+                self.error("room.bounds", f"needs x0 < x1 and y0 < y1, got {_fmt(bounds)}")
+                bounds = None
+            entrance = self.vector(room, "room", "entrance", "[x, y]")
+            self.inside("room.entrance", entrance, bounds)
+            heading = self.number(room, "room", "heading_deg", 0.0)
+        robot = self.settings(doc, "robot", Robot, _ROBOT_CHECKS)
+        sensing = self.settings(doc, "sensing", Sensing, _SENSING_CHECKS)
+        if sensing is not None and sensing.range_min >= sensing.range_max:
+            self.error(
+                "sensing.range_min", f"must be < range_max ({sensing.range_max:g}), got {sensing.range_min:g}"
+            )
+
+        names: dict[str, str] = {}  # one namespace: they all become PDDL objects
+        parsed: dict[str, list] = {}
+        for key in _ARRAYS:
+            parsed[key] = []
+            for i, label, t in self.entries(doc, key):
+                n = t.get("name")
+                if isinstance(n, str) and n in names:
+                    self.error(f"{key}[{i}].name", f"{n!r} is already the name of {names[n]}")
+                elif isinstance(n, str):
+                    names[n] = f"{key}[{i}]"
+                before = len(self.messages)
+                obj = getattr(self, f"_{key}")(label, t, bounds)
+                parsed[key].append((label, t, obj if len(self.messages) == before else None))
+        furniture = {o.name: o for _, _, o in parsed["furniture"] if o is not None}
+        self._cross_check(parsed, furniture)
+        expect = self._expect(doc, parsed)
+        if self.messages:
+            raise ScenarioError(self.messages)
+        head = (name, title, description, bounds, entrance, heading, robot, sensing)
+        return Scenario(*head, *(tuple(o for _, _, o in parsed[k]) for k in _ARRAYS), expect, self.path)
+
+    def _furniture(self, where: str, t: dict, bounds: tuple | None) -> Furniture | None:
+        self.keys(t, where, ("name", "center", "size", "height", "kind"))
+        name = self.string(t, where, "name", name=True)
+        if name == FLOOR:
+            self.error(f"{where}.name", f'"{FLOOR}" is reserved: it is what an item on the floor stands on')
+        center = self.vector(t, where, "center", "[x, y]")
+        self.inside(f"{where}.center", center, bounds)
+        size = self.vector(t, where, "size", "[sx, sy]", positive=True)
+        height = self.number(t, where, "height", check=_positive)
+        kind = self.string(t, where, "kind")
+        if None in (name, center, size, height, kind):
+            return None
+        return Furniture(name, center[0], center[1], size[0], size[1], height, kind)
+
+    def _deposit(self, where: str, t: dict, bounds: tuple | None) -> Deposit | None:
+        self.keys(t, where, ("name", "category", "position", "approach"))
+        name = self.string(t, where, "name", name=True)
+        category = self.string(t, where, "category", name=True)
+        pos = self.vector(t, where, "position", "[x, y, z]")
+        self.inside(f"{where}.position", pos, bounds)
+        if pos is not None and pos[2] < 0:
+            self.error(f"{where}.position", f"z must be >= 0 (the floor), got {pos[2]:g}")
+        approach = self.vector(t, where, "approach", "[x, y]", default=())
+        self.inside(f"{where}.approach", approach or None, bounds)
+        if None in (name, category, pos, approach):
+            return None
+        return Deposit(name, category, *pos, approach or None)
+
+    def _item(self, where: str, t: dict, bounds: tuple | None) -> Item | None:
+        self.keys(t, where, ("name", "category", "position", "on", "size"))
+        name = self.string(t, where, "name", name=True)
+        category = self.string(t, where, "category", name=True)
+        pos = self.vector(t, where, "position", "[x, y]")
+        self.inside(f"{where}.position", pos, bounds)
+        on = self.string(t, where, "on", FLOOR)
+        size = self.vector(t, where, "size", "[sx, sy, sz]", ITEM_SIZE, positive=True)
+        if None in (name, category, pos, on, size):
+            return None
+        return Item(name, category, pos[0], pos[1], on, *size)
+
+    def _viewpoint(self, where: str, t: dict, bounds: tuple | None) -> Viewpoint | None:
+        self.keys(t, where, ("name", "position"))
+        name = self.string(t, where, "name", name=True)
+        pos = self.vector(t, where, "position", "[x, y]")
+        self.inside(f"{where}.position", pos, bounds)
+        return None if None in (name, pos) else Viewpoint(name, *pos)
+
+    def _cross_check(self, parsed: dict[str, list], furniture: dict[str, Furniture]) -> None:
+        """Checks between entries; on raw values where a bad sibling field should not hide them."""
+        furniture_names = {t.get("name") for _, t, _ in parsed["furniture"]}
+        accepted = {t.get("category") for _, t, _ in parsed["deposit"]}
+        for label, t, _ in parsed["item"]:
+            on, category = t.get("on", FLOOR), t.get("category")
+            if isinstance(on, str) and on != FLOOR and on not in furniture_names:
+                self.error(f"{label}.on", f'no furniture named {on!r} (nor "{FLOOR}")')
+            if isinstance(category, str) and NAME_RE.fullmatch(category) and category not in accepted:
+                self.error(f"{label}.category", f"no deposit accepts category {category!r}")
+        for label, _, item in parsed["item"]:
+            if item is None:
+                continue
+            where = f"{label}.position"
+            if item.on in furniture and furniture[item.on].box().clearance(item.x, item.y) > 0:
+                self.error(
+                    where, f"{_fmt((item.x, item.y))} is outside the footprint of {item.on!r} it stands on"
+                )
+            for f in furniture.values() if item.on == FLOOR else ():
+                if _overlap(item.box(), f.box()):
+                    self.error(where, f"on the floor but overlaps furniture {f.name!r}")
+
+    def _expect(self, doc: dict, parsed: dict[str, list]) -> Expect:
+        t = self.table(doc, "expect", required=False)
+        if t is None:
+            return Expect()
+        self.keys(t, "expect", _EXPECT)
+        names = {k: {e.get("name") for _, e, _ in parsed[k]} for k in _ARRAYS}
+        values = {}
+        for key in _EXPECT:
+            kind = key.rsplit("_", 1)[1].removesuffix("s")  # items -> item, deposits -> deposit
+            v = t.get(key, [])
+            if not isinstance(v, list) or not all(isinstance(n, str) for n in v):
+                self.error(f"expect.{key}", f"must be a list of {kind} names, got {v!r}")
+                continue
+            for i, n in enumerate(v):
+                if n not in names[kind]:
+                    other = next((k for k in _ARRAYS if n in names[k]), None)
+                    what = f"names {_A[other]}, not {_A[kind]}" if other else f"no {kind} has this name"
+                    self.error(f"expect.{key}[{i}]", f"{n!r}: {what}")
+            values[key] = tuple(v)
+        return Expect(**values)
+
+
+def _overlap(a: Box, b: Box) -> bool:
+    """Whether two footprints share area (touching edges do not count)."""
+    return abs(a.cx - b.cx) < (a.sx + b.sx) / 2 and abs(a.cy - b.cy) < (a.sy + b.sy) / 2
