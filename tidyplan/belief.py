@@ -109,6 +109,7 @@ class Belief:
         self.points, self._support = _placement_points(scenario)
         self.seen = np.zeros(len(self.points), dtype=bool)
         self._view_cache: dict[Point, np.ndarray] = {}
+        self._facts: tuple[tuple, MapFacts] | None = None
 
     # ------------------------------------------------------------------ what is (not) known
     def virtual(self) -> list[tuple[str, str]]:
@@ -127,13 +128,27 @@ class Belief:
         return [k.placed() for k in self.untidied() if k.state == "placed"]
 
     def facts(self) -> MapFacts:
+        """The map's facts for the belief as it is; the monitor asks several times a step, so the
+        last answer is kept while nothing it depends on changes (callers must not edit it)."""
+        if self._facts is not None and self._facts[0] == self._facts_key():
+            return self._facts[1]
         facts = self.room.facts(self.placed(), robot=(self.robot_wp, self.robot), sticky=self.sticky)
         for item, wp in facts.grasp.items():
             self.sticky[item] = facts.points[wp]
         for a, b in list(facts.path):
             if (facts.points[a], facts.points[b]) in self.blocked_moves:
                 del facts.path[(a, b)]  # a move found this way blocked: the grid is wrong here
+        self._facts = (self._facts_key(), facts)
         return facts
+
+    def _facts_key(self) -> tuple:
+        return (
+            tuple(self.placed()),
+            self.robot_wp,
+            self.robot,
+            frozenset(self.blocked_moves),
+            tuple(sorted(self.sticky.items())),
+        )
 
     def p_item_near(self, facts: MapFacts) -> dict[str, float]:
         """For each viewpoint nobody looked from: the chance that an unseen item is revealed from
@@ -217,10 +232,6 @@ class Belief:
         k = self.items[name]
         k.state, k.deposit = "tidied", deposit
         self.holding = None
-
-    def bind(self, virtual: str, real: str) -> None:
-        """A virtual object of the plan turned out to be this seen item (no state to change: the
-        count of unseen items dropped when the item was added)."""
 
     # ------------------------------------------------------------------ geometry
     def _match(self, d: Detection, taken: set[str]) -> Known | None:

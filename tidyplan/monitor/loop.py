@@ -87,7 +87,7 @@ class Mission:
         self.trace.emit(
             "start", strategy=self.config.strategy, domain=self._plain, expected=dict(self.belief.expected)
         )
-        self._observe(self.executor.world.look(), "wp-entrance")
+        self._observe(self.world.look(), "wp-entrance")
         reason = self._replan(Cause.INITIAL)
         while reason is None:
             reason = self._tick()
@@ -105,11 +105,9 @@ class Mission:
             return self._finished()
         if self.count.actions >= self.config.max_actions:
             return f"action limit {self.config.max_actions} reached"
-        step = self.steps[0]
-        state = self._belief_state()
-        if not self.sim.applicable(state, step.name, step.args):
-            return self._replan(Cause.PRECONDITION, f"{_text(step)} not applicable")
-        self.steps.pop(0)
+        # No check here: the plan was just made from this belief, or _monitor has checked the
+        # rest of it (this step first) against the belief after the last action.
+        step = self.steps.pop(0)
         report = self.executor.execute(step, self.snapshot, self.belief)
         self._count(step, report)
         self.trace.emit(
@@ -180,12 +178,12 @@ class Mission:
         for label, goal, virtual in attempts:
             if not goal:
                 continue
-            result, snap = self._plan(goal, virtual, cause, why, label)
+            result, snap, problem = self._plan(goal, virtual, cause, why, label)
             if result.status is Status.SOLVED:
                 p = result.score.probability
                 if p < self.config.min_probability:
                     return f"best plan's success probability {p:.2g} below {self.config.min_probability:g}"
-                self._adopt(result, snap)
+                self._adopt(result, snap, problem)
                 return None
         if self.belief.virtual() and self.belief.scene_changed:
             self.belief.reset_exploration()  # items moved: views blocked before may be open now
@@ -206,11 +204,11 @@ class Mission:
         self._facts, self._seen = facts, seen
         return out + [("feasible", None, [])]
 
-    def _plan(self, goal, virtual, cause, why, label) -> tuple[PlanResult, Snapshot]:
+    def _plan(self, goal, virtual, cause, why, label) -> tuple[PlanResult, Snapshot | None, m.Problem | None]:
         if goal is None:  # the items that have a plan alone
             goal = [g for g in self._seen if self._alone(g)]
             if not goal:
-                return PlanResult(Status.NO_PLAN, (), None, None, (), 0.0, "", "nothing feasible"), None
+                return PlanResult(Status.NO_PLAN, (), None, None, (), 0.0, "", "nothing feasible"), None, None
         n = self.count.replans
         snap = write(self.belief, self.belief.facts(), goal, virtual, f"tidy-replan-{n:03d}")
         problem = self._problem(snap.text, f"replan-{n:03d}.pddl")
@@ -238,7 +236,7 @@ class Mission:
             message=result.message,
             **paths,
         )
-        return result, snap
+        return result, snap, problem
 
     def _problem(self, text: str, name: str) -> m.Problem:
         """Parse and check a problem the writer made; an error here is ours, not the user's."""
@@ -253,10 +251,9 @@ class Mission:
         problem = self._problem(snap.text, "alone.pddl")
         return self.planner(self.domain, problem, self.max_stratum).status is Status.SOLVED
 
-    def _adopt(self, result: PlanResult, snap: Snapshot) -> None:
+    def _adopt(self, result: PlanResult, snap: Snapshot, problem: m.Problem) -> None:
         self.snapshot, self.steps = snap, list(result.steps)
         self.stratum = result.stratum
-        problem = self._problem(snap.text, "adopted.pddl")
         self.sim = Simulator(self.domain, problem)
         self.goal = list(snap.goal)  # item names; renamed as virtual objects are bound
 
