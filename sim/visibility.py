@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
+from typing import Protocol
 
 from sim.scenario import Furniture, Item, Scenario
 
@@ -44,10 +45,22 @@ class Box3:
         return cls(f.cx - f.sx / 2, f.cx + f.sx / 2, f.cy - f.sy / 2, f.cy + f.sy / 2, 0.0, f.height, f.name)
 
     @classmethod
-    def from_item(cls, item: Item, base_z: float) -> Box3:
-        """An item whose base is at ``base_z`` (``Scenario.item_base_z``, or where it was moved)."""
+    def from_item(cls, item: Item | Solid, base_z: float) -> Box3:
+        """An item whose base is at ``base_z`` (``Scenario.item_base_z``, or where it was moved):
+        a scenario item, or anything shaped like one (the world's truth, the belief's items)."""
         hx, hy = item.sx / 2, item.sy / 2
         return cls(item.x - hx, item.x + hx, item.y - hy, item.y + hy, base_z, base_z + item.sz, item.name)
+
+
+class Solid(Protocol):
+    """What a box needs of an item: a name, the centre of its footprint, and its size."""
+
+    name: str
+    x: float
+    y: float
+    sx: float
+    sy: float
+    sz: float
 
 
 def segment_hits_box(p: Sequence[float], q: Sequence[float], box: Box3) -> bool:

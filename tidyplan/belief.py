@@ -266,8 +266,7 @@ class Belief:
         )
 
     def _box3(self, k: Known) -> Box3:
-        z = 0.0 if k.on == "floor" else self.scenario.furniture_named(k.on).height
-        return Box3(k.x - k.sx / 2, k.x + k.sx / 2, k.y - k.sy / 2, k.y + k.sy / 2, z, z + k.sz, k.name)
+        return Box3.from_item(k, 0.0 if k.on == "floor" else self.scenario.furniture_named(k.on).height)
 
     def _camera(self, p: Point) -> tuple[float, float, float]:
         return (p[0], p[1], self.scenario.sensing.camera_height)

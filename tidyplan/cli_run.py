@@ -16,7 +16,6 @@ from tidyplan.errors import Diagnostic, InputError
 from tidyplan.exec.symbolic import Rates
 from tidyplan.monitor.loop import STRATEGIES
 
-ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_SCENARIO = "problems/case3.toml"
 CASES = {"I": "case1.toml", "II": "case2.toml", "III": "case3.toml"}
 # Yan et al., Table II: uses of P1, P2, P3 and total actions per case (O-FSM scenario planning)

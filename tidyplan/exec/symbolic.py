@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from sim.grid import Box
 from sim.scenario import Scenario
 from sim.visibility import Box3, visible
 from tidyplan.belief import Detection
@@ -214,13 +215,10 @@ class SymbolicWorld:
         return 0.0 if o.on == "floor" else self.scenario.furniture_named(o.on).height
 
     def _box3(self, o: TrueItem) -> Box3:
-        z = self._base_z(o)
-        return Box3(o.x - o.sx / 2, o.x + o.sx / 2, o.y - o.sy / 2, o.y + o.sy / 2, z, z + o.sz, o.name)
+        return Box3.from_item(o, self._base_z(o))
 
     @staticmethod
-    def _box(o: TrueItem):
-        from sim.grid import Box
-
+    def _box(o: TrueItem) -> Box:
         return Box(o.x, o.y, o.sx, o.sy, o.name)
 
     def _free_spot(self, item: TrueItem) -> Point | None:
