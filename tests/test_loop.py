@@ -241,3 +241,15 @@ def test_bad_fault_option_is_exit_2(tidyplan_cmd, bad):
     done = subprocess.run([*tidyplan_cmd, "run", "--faults", bad, "--quiet"], capture_output=True, text=True)
     assert done.returncode == 2
     assert "--faults" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_unknown_planner_is_exit_2_before_any_trace_is_written(tidyplan_cmd, tmp_path):
+    trace = tmp_path / "t.jsonl"
+    done = subprocess.run(
+        [*tidyplan_cmd, "run", "--planner", "nosuch", "--trace", str(trace), "--quiet"],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 2
+    assert "planner 'nosuch'" in done.stderr and "Traceback" not in done.stderr
+    assert not trace.exists() and not trace.with_suffix(".pddl").exists()

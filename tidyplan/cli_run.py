@@ -45,6 +45,12 @@ def add_parsers(sub, positive) -> None:
         help="ofsm: strata P1, P2, P3; greedy: P1 only",
     )
     r.add_argument("--seed", type=int, default=0)
+    r.add_argument(
+        "--planner",
+        default="lama",
+        help="engine: lama (default, anytime), lama-first or optimal (deterministic), "
+        "or any unified-planning engine name",
+    )
     r.add_argument("--faults", default="", metavar="K=V,...", help="fault rates: " + ", ".join(FAULTS))
     r.add_argument("--trace", metavar="FILE", help="trace file to write (default: runs/<scenario>-...)")
     r.add_argument(
@@ -122,7 +128,10 @@ def cmd_run(args) -> int:
         raise InputError("--gui: the pybullet world is not built yet; run with --world symbolic")
     from tidyplan.mission import project_file
 
+    from tidyplan.engines import check_name
+
     scenario = _scenario(args.scenario or project_file(DEFAULT_SCENARIO))
+    check_name(args.planner)
     rates = parse_faults(args.faults)
     trace = (
         Path(args.trace)
@@ -134,6 +143,7 @@ def cmd_run(args) -> int:
     settings = Settings(
         args.strategy,
         args.seed,
+        planner=args.planner,
         time_budget=args.time_budget,
         min_probability=args.min_probability,
         rates=rates,

@@ -166,3 +166,17 @@ def up_planner_names(factory) -> list[str]:
         except Exception:  # an engine that fails to load is not one we can offer
             continue
     return names
+
+
+def check_name(name: str) -> None:
+    """Refuse an engine name before anything is written (a run's trace, say)."""
+    if name in ENGINES:
+        return
+    from unified_planning.environment import get_environment
+
+    known = up_planner_names(get_environment().factory)
+    if name not in known:
+        raise PlannerError(
+            f"planner '{name}' cannot be used: no such engine; planners here: "
+            + ", ".join(engine_names() + known)
+        )
