@@ -14,7 +14,7 @@ from dataclasses import replace
 import pytest
 
 from sim.scenario_file import loads
-from tidyplan.exec.bindings import DirectExecutor, Report
+from tidyplan.exec.bindings import MonitoredExecutor
 from tidyplan.exec.symbolic import Outcome, Rates, SymbolicWorld
 from tidyplan.mission import Settings, run
 
@@ -78,32 +78,56 @@ def test_a_plan_that_stays_valid_is_kept_to_the_end(tmp_path):
     assert events[-2]["kind"] == "end" and events[-2]["reason"] == "goal reached"
 
 
-def test_failed_grasp_leaves_the_rest_of_the_plan_invalid_and_replans(tmp_path):
-    # take_object fails (seeded): the carry move can still run, the delivery after it cannot:
-    # the rest of the plan no longer reaches the goal (ii).
-    scenario = _scenario("grasp", [("t1", 1.8, 1.0)])
-    summary, events = _run(tmp_path, scenario, rates=replace(EXACT, take=0.5), seed=2)
-    assert summary["success"]
-    failed = [e for e in events if e["kind"] == "action" and e["failure"] == "grasp_fail"]
-    assert failed, "seed 2 must make a grasp fail"
-    assert summary["replan_causes"] == {"plan_invalid": len(failed)}
-    assert "(deliver_it t1" not in _plans(events)[1]["why"] and "deliver_it" in _plans(events)[1]["why"]
-
-
-def test_blocked_move_makes_the_next_precondition_false_and_replans(tmp_path, monkeypatch):
-    # The first move finds its way blocked: the robot is not where take_object needs it (i).
-    real = SymbolicWorld.move
+def _after_first_action(monkeypatch, change):
+    """Let ``change(belief, snapshot)`` alter the belief once, after the first action, as an
+    observation would: the monitor must notice what that does to the plan."""
+    real = MonitoredExecutor.execute
     calls = {"n": 0}
 
-    def blocked_once(self, to, *, adjust=False):
+    def execute(self, step, snapshot, belief, observe):
+        report = real(self, step, snapshot, belief, observe)
         calls["n"] += 1
-        return Outcome(False, "path_blocked", 2.0) if calls["n"] == 1 else real(self, to, adjust=adjust)
+        if calls["n"] == 1:
+            change(belief, snapshot)
+        return report
 
-    monkeypatch.setattr(SymbolicWorld, "move", blocked_once)
-    summary, events = _run(tmp_path, _scenario("blocked", [("t1", 1.8, 1.0)]))
+    monkeypatch.setattr(MonitoredExecutor, "execute", execute)
+
+
+def test_next_precondition_false_in_the_belief_replans(tmp_path, monkeypatch):
+    # After the first move a closer look puts the toy 20 cm from where it seemed to be, too close
+    # to grasp from where the robot stands: take_object cannot run from there (i).
+    _after_first_action(monkeypatch, lambda belief, snapshot: belief.relocate("toy-1", 1.6, 1.0))
+    summary, events = _run(tmp_path, _scenario("lost", [("t1", 1.8, 1.0)]))
     assert summary["success"]
-    assert summary["replan_causes"] == {"precondition_failed": 1}
+    assert _plans(events)[1]["cause"] == "precondition_failed"
     assert _plans(events)[1]["why"].startswith("(take_object toy-1")
+
+
+def test_rest_of_the_plan_no_longer_reaching_the_goal_replans(tmp_path, monkeypatch):
+    # After the first action the belief learns that the way from the first toy to the deposit
+    # is blocked: the next action can still run, a later one cannot (ii).
+    def block(belief, snapshot):
+        points = snapshot.facts.points
+        belief.blocked_moves.add((points["wp-toy-1"], points["wp-box"]))
+
+    _after_first_action(monkeypatch, block)
+    summary, events = _run(tmp_path, _scenario("detour", [("t1", 1.8, 1.0)]))
+    assert summary["success"]
+    assert _plans(events)[1]["cause"] == "plan_invalid"
+    assert "(move wp-toy-1 wp-box)" in _plans(events)[1]["why"]
+
+
+def test_a_failed_grasp_is_mended_by_the_monitor_without_a_replan(tmp_path):
+    # The grasp closes on nothing (class B): the grasp unit goes from do back to check, the
+    # action succeeds, and the plan is kept.
+    scenario = _scenario("grasp", [("t1", 1.8, 1.0)])
+    summary, events = _run(tmp_path, scenario, rates=replace(EXACT, take=0.5), seed=0)
+    assert summary["success"] and summary["replans"] == 0
+    failed = [e for e in events if e["kind"] == "unit" and e["failure"] == "grasp_fail"]
+    assert failed and all(e["failure_class"] == "B" and e["step"] == "do" for e in failed)
+    assert [e["layer"] for e in events if e["kind"] == "recovery"][:1] == ["same_unit"]
+    assert summary["recoveries"] == len(failed)
 
 
 def test_unseen_toy_is_assumed_and_the_contradiction_replans(tmp_path):
@@ -153,30 +177,25 @@ def test_a_new_toy_the_plan_cannot_bind_replans(tmp_path):
     assert any(p["goal_kind"] != "all" or p["cause"] == "new_object" for p in _plans(events))
 
 
-def test_recovery_exhausted_replans(tmp_path, monkeypatch):
-    # The execution layer (the monitor's error layer, next issue) gives up once: cause (iv).
-    real = DirectExecutor.execute
+def test_recovery_exhausted_past_the_cap_replans(tmp_path, monkeypatch):
+    # The gripper closes on nothing three times running; with a cap of 2 the error layer stops
+    # the recovery and the planner reworks the task (iv); the new plan's grasp works.
+    real = SymbolicWorld.grasp
     calls = {"n": 0}
 
-    def flaky(self, step, snapshot, belief):
-        report = real(self, step, snapshot, belief)
+    def grasp(self, target):
         calls["n"] += 1
-        if calls["n"] == 1:
-            return Report(
-                report.ok,
-                "grasp_fail",
-                report.seconds,
-                report.metres,
-                report.detections,
-                True,
-                report.waypoint,
-            )
-        return report
+        return Outcome(False, "grasp_fail", 12.0) if calls["n"] <= 3 else real(self, target)
 
-    monkeypatch.setattr(DirectExecutor, "execute", flaky)
-    summary, _ = _run(tmp_path, _scenario("recovery", [("t1", 1.8, 1.0)]))
+    monkeypatch.setattr(SymbolicWorld, "grasp", grasp)
+    summary, events = _run(tmp_path, _scenario("recovery", [("t1", 1.8, 1.0)]), max_recovery=2)
     assert summary["replan_causes"] == {"recovery_exhausted": 1}
     assert summary["success"]
+    layers = [(e["layer"], e["attempt"]) for e in events if e["kind"] == "recovery"]
+    assert layers == [("same_unit", 1), ("earlier_unit", 2), ("error_layer", 3)]
+    action = next(e for e in events if e["kind"] == "action" and not e["ok"])
+    assert action["recovery_exhausted"] and action["failure"] == "grasp_fail"
+    assert _plans(events)[1]["why"].startswith("(take_object toy-1")
 
 
 def test_gives_up_when_the_best_plan_is_too_unlikely(tmp_path):

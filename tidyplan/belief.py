@@ -53,10 +53,10 @@ class Known:
     sx: float = 0.08
     sy: float = 0.08
     sz: float = 0.10
-    sz: float = 0.10
     state: str = "placed"
     misses: int = 0
     deposit: str | None = None
+    spread: float = 0.0  # m it may lie from (x, y): 0 where seen; more where it fell unseen
 
     def placed(self) -> Placed:
         return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy)
@@ -124,6 +124,12 @@ class Belief:
     def untidied(self) -> list[Known]:
         return sorted((k for k in self.items.values() if k.state != "tidied"), key=lambda k: k.name)
 
+    def surplus(self) -> list[str]:
+        """Untidied items of a category whose every expected item is tidied already: false
+        detections, for the room holds no more of that category."""
+        done = Counter(k.category for k in self.items.values() if k.state == "tidied")
+        return [k.name for k in self.untidied() if k.state == "placed" and done[k.category] >= self.expected[k.category]]
+
     def placed(self) -> list[Placed]:
         return [k.placed() for k in self.untidied() if k.state == "placed"]
 
@@ -189,6 +195,8 @@ class Belief:
             k = self._match(d, matched)
             if k is not None:
                 k.misses = 0
+                if k.spread:  # a fallen item found: now its place is known
+                    self.relocate(k.name, d.x, d.y)
                 matched.add(k.name)
                 update.confirmed.append(k.name)
                 continue
@@ -225,8 +233,22 @@ class Belief:
 
     def put(self, name: str, x: float, y: float, on: str = "floor") -> None:
         k = self.items[name]
-        k.state, k.x, k.y, k.on, k.misses = "placed", x, y, on, 0
+        k.state, k.x, k.y, k.on, k.misses, k.spread = "placed", x, y, on, 0, 0.0
         self.holding = None
+
+    def fell(self, name: str, near: Point, spread: float) -> None:
+        """The item in the hand slipped out near ``near``: on the floor within ``spread`` of it,
+        place not seen yet (the pick-up's check looks for it there)."""
+        self.put(name, *near)
+        self.items[name].spread = spread
+        self.scene_changed = True
+
+    def relocate(self, name: str, x: float, y: float) -> None:
+        """A close look found the item at (x, y)."""
+        k = self.items[name]
+        if math.dist((k.x, k.y), (x, y)) > 0.02:
+            self.sticky.pop(name, None)  # the grasp pose chosen for the old place may not fit
+        k.x, k.y, k.spread, k.misses = x, y, 0.0, 0
 
     def delivered(self, name: str, deposit: str) -> None:
         k = self.items[name]
@@ -240,7 +262,7 @@ class Belief:
             if k.state != "placed" or k.category != d.category or k.name in taken:
                 continue
             dist = math.dist((k.x, k.y), (d.x, d.y))
-            if dist <= SAME_ITEM and (best is None or dist < best[0]):
+            if dist <= max(SAME_ITEM, k.spread) and (best is None or dist < best[0]):
                 best = (dist, k)
         return None if best is None else best[1]
 

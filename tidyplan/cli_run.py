@@ -20,10 +20,12 @@ DEFAULT_SCENARIO = "problems/case3.toml"
 CASES = {"I": "case1.toml", "II": "case2.toml", "III": "case3.toml"}
 # Yan et al., Table II: uses of P1, P2, P3 and total actions per case (O-FSM scenario planning)
 TABLE2 = {"I": (12, 0, 0, 36), "II": (10, 1, 1, 45), "III": (11, 0, 1, 52)}
-# Faults the symbolic world injects so far, as rates; the execution monitor adds the rest.
+# Faults the world injects, as rates; the execution monitor recovers from them.
 FAULTS = {
-    "grasp_fail": "a grasp fails (take_object)",
-    "place_fail": "a placement fails (deliver_it, drop_object)",
+    "grasp_fail": "a grasp closes on nothing (take_object; default 0.05)",
+    "grasp_drop": "the item in the hand falls near the robot while it drives (per motion; default 0)",
+    "place_fail": "a placement fails, the item stays in the hand (deliver_it, drop_object; default 0.02)",
+    "path_blocked": "a transient obstacle stops a motion on its way (per motion; default 0)",
     "perception_miss": "a visible object is not detected (false negative)",
     "perception_false": "a look reports an object that is not there (false positive)",
 }
@@ -67,6 +69,13 @@ def add_parsers(sub, positive) -> None:
         metavar="P",
         help="give up when the best plan's success probability is below P (default 1e-4)",
     )
+    r.add_argument(
+        "--max-recovery",
+        type=int,
+        default=3,
+        metavar="N",
+        help="recovery iterations for one failing behaviour unit before the planner replans (default 3)",
+    )
     r.add_argument("--gui", action="store_true", help="open the pybullet window (pybullet world only)")
     r.add_argument("--json", action="store_true", help="print the summary as one JSON object, last")
     r.add_argument("--quiet", action="store_true", help="no progress lines")
@@ -100,6 +109,8 @@ def parse_faults(text: str) -> Rates:
         drop=1.0 - rates.get("place_fail", 0.02),
         false_negative=rates.get("perception_miss"),
         false_positive=rates.get("perception_false"),
+        grasp_drop=rates.get("grasp_drop", 0.0),
+        path_blocked=rates.get("path_blocked", 0.0),
     )
 
 
@@ -133,6 +144,8 @@ def cmd_run(args) -> int:
     scenario = _scenario(args.scenario or project_file(DEFAULT_SCENARIO))
     check_name(args.planner)
     rates = parse_faults(args.faults)
+    if args.max_recovery < 0:
+        raise InputError(f"--max-recovery: {args.max_recovery} is negative")
     trace = (
         Path(args.trace)
         if args.trace
@@ -147,6 +160,7 @@ def cmd_run(args) -> int:
         time_budget=args.time_budget,
         min_probability=args.min_probability,
         rates=rates,
+        max_recovery=args.max_recovery,
     )
     show = None if args.quiet else _progress(len(scenario.items))
     summary = run(scenario, trace, settings, on_event=show)

@@ -14,10 +14,11 @@ from pathlib import Path
 from sim.scenario import Scenario
 from sim.scenario_file import load
 from tidyplan.belief import Belief
-from tidyplan.exec.bindings import DirectExecutor
+from tidyplan.exec.bindings import MonitoredExecutor
 from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.symbolic import Rates, SymbolicWorld
 from tidyplan.monitor.loop import LoopConfig, Mission
+from tidyplan.monitor.recovery import RecoveryConfig
 from tidyplan.planner import Status, plan
 from tidyplan.trace import TraceWriter
 
@@ -42,6 +43,7 @@ class Settings:
     time_budget: float = 1.0
     min_probability: float = 1e-4
     rates: Rates = Rates()
+    max_recovery: int = 3  # recovery iterations per failing unit before the planner reworks the task
 
 
 def run(
@@ -74,7 +76,8 @@ def run(
         if on_event is not None:
             trace.listener = on_event
         config = LoopConfig(strategy=settings.strategy, min_probability=settings.min_probability)
-        mission = Mission(domain, belief, DirectExecutor(world), world, planner, trace, config)
+        executor = MonitoredExecutor(world, trace.emit, RecoveryConfig(max_iterations=settings.max_recovery))
+        mission = Mission(domain, belief, executor, world, planner, trace, config)
         outcome = mission.run()
         summary = _summary(scenario, settings, world, belief, mission, outcome, started, trace.path)
         trace.emit("summary", **summary)
@@ -99,6 +102,7 @@ def _summary(scenario, settings, world, belief, mission, outcome, started, trace
         "replans": count.replans,
         "replan_causes": dict(sorted(count.causes.items())),
         "replans_avoided": count.replans_avoided,
+        "recoveries": count.recoveries,
         "distance_m": round(world.odometer.distance_m, 2),
         "sim_time_s": round(world.odometer.sim_time_s, 1),
         "wall_time_s": round(time.perf_counter() - started, 2),

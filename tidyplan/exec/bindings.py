@@ -1,16 +1,29 @@
-"""Symbolic actions of ``domains/tidy.pddl`` bound to what the world does, and to the belief.
+"""Symbolic actions of ``domains/tidy.pddl`` as sequences of behaviour units, run with recovery.
 
-Each action becomes calls on the injected world (symbolic now, pybullet later) followed by a
-look from where the robot ends up; the outcome is written into the belief here, because only
-this layer knows what a ``take_object`` means physically. Assumptions never reach this module:
-the loop checks them against observations instead.
+Each action is its approach phase then its manipulation phase (Yamazaki et al., VII-A), and a
+look from where the robot ends up:
+
+    move, move_back              navigate                          + look
+    possible_ego_pose_adjustment navigate (careful)                + look
+    take_object ?o ?w            adjust_base, grasp                + look
+    deliver_it ?o ?d ?w          approach_deposit, place           + look
+    drop_object ?o ?w            put_down                          + look
+
+The world is injected (the symbolic one now, the pybullet one later). When the error layer
+gives up, the belief learns what the failure showed (a way that is blocked, an item that is not
+where it was believed) and the loop replans: "recovery exhausted". Assumptions never reach
+this module: the loop checks them against observations.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
-from tidyplan.belief import Belief, Detection
+from tidyplan.belief import Belief
+from tidyplan.exec.units import AdjustBase, AlignAtDeposit, Context, Grasp, Look, Navigate, Place, PutDown
+from tidyplan.monitor.recovery import RecoveryConfig, Runner
+from tidyplan.monitor.unit import Unit
 from tidyplan.planner import Step
 from tidyplan.problem import Snapshot
 
@@ -19,61 +32,86 @@ MOVES = ("move", "move_back")
 
 @dataclass(slots=True)
 class Report:
-    """What executing one action gave: success or a named failure, and what was seen after."""
+    """What executing one action gave: success or the failure recovery could not mend, what the
+    looks on the way brought, and where the robot stands afterwards."""
 
     ok: bool
     failure: str | None = None
     seconds: float = 0.0
     metres: float = 0.0
-    detections: list[Detection] = field(default_factory=list)
+    new: list[str] = field(default_factory=list)  # items seen for the first time
     recovery_exhausted: bool = False
-    waypoint: str | None = None  # where the robot stands afterwards, when it is a waypoint
+    waypoint: str | None = None
+    recoveries: int = 0
+    failure_class: str | None = None
 
 
-class DirectExecutor:
-    """One world call per action, no recovery (the execution monitor adds that)."""
+class MonitoredExecutor:
+    """Runs each symbolic action as behaviour units under layered recovery (tidyplan.monitor)."""
 
-    def __init__(self, world) -> None:
+    def __init__(self, world, emit=None, config: RecoveryConfig = RecoveryConfig()) -> None:
         self.world = world
+        self.emit = emit or (lambda kind, **fields: None)
+        self.config = config
 
-    def execute(self, step: Step, snapshot: Snapshot, belief: Belief) -> Report:
+    def execute(self, step: Step, snapshot: Snapshot, belief: Belief, observe) -> Report:
+        ctx = Context(self.world, belief, observe)
+        text = "(" + " ".join((step.name, *step.args)) + ")"
+        clock = self.world.odometer
+        t0, d0 = clock.sim_time_s, clock.distance_m
+        from_point = belief.robot
+
+        def emit(kind, **fields):
+            self.emit(kind, action=text, **fields)
+
+        runner = Runner(self.config, emit)
+        result = runner.run(self.units(step, snapshot, ctx))
+        if not result.ok:
+            self._learn(step, snapshot, belief, result.failure.what, from_point)
+        here = _waypoint_at(snapshot, belief)
+        Runner(self.config, emit).run([Look(ctx, here)])
+        return Report(
+            result.ok,
+            None if result.ok else result.failure.what,
+            clock.sim_time_s - t0,
+            clock.distance_m - d0,
+            ctx.new,
+            not result.ok,
+            here,
+            result.recoveries,
+            None if result.ok else result.failure.klass.value,
+        )
+
+    def units(self, step: Step, snapshot: Snapshot, ctx: Context) -> list[Unit]:
         points = snapshot.facts.points
         name, args = step.name, step.args
-        if name in MOVES or name == "possible_ego_pose_adjustment":
-            target = args[1]
-            out = self.world.move(points[target], adjust=name == "possible_ego_pose_adjustment")
-            if out.ok:
-                belief.at(points[target], target)
-                here = target
-                if name == "move_back":
-                    belief.must_move_back = False
-            elif out.failure == "path_blocked":
-                belief.blocked_moves.add((points[args[0]], points[target]))
-        elif name == "take_object":
-            item = belief.items[args[0]]
-            out = self.world.take((item.x, item.y))
-            if out.ok:
-                belief.taken(args[0])
-            elif out.failure == "not_found":
-                belief.forget(args[0])  # nothing there: a false detection, or it moved
-        elif name == "deliver_it":
-            out = self.world.deliver(args[1], points[args[2]])
-            if out.ok:
-                belief.delivered(args[0], args[1])
-        elif name == "drop_object":
-            out = self.world.drop()
-            if out.ok:
-                belief.put(args[0], *out.at)
-                belief.must_move_back = True
-        else:
-            raise ValueError(f"no binding for action {name!r}")
-        here = self._waypoint_at(snapshot, belief)
-        detections = self.world.look()
-        return Report(out.ok, out.failure, out.seconds, out.metres, detections, False, here)
+        if name in MOVES:
+            return [Navigate(ctx, points[args[1]], args[1])]
+        if name == "possible_ego_pose_adjustment":
+            return [Navigate(ctx, points[args[1]], args[1], careful=True)]
+        if name == "take_object":
+            return [AdjustBase(ctx, args[0]), Grasp(ctx, args[0])]
+        if name == "deliver_it":
+            approach = points[args[2]]
+            return [AlignAtDeposit(ctx, approach, args[2]), Place(ctx, args[0], args[1], approach)]
+        if name == "drop_object":
+            return [PutDown(ctx, args[0])]
+        raise ValueError(f"no binding for action {name!r}")
 
     @staticmethod
-    def _waypoint_at(snapshot: Snapshot, belief: Belief) -> str | None:
-        for n, p in snapshot.facts.points.items():
-            if abs(p[0] - belief.robot[0]) < 0.03 and abs(p[1] - belief.robot[1]) < 0.03:
-                return n
-        return None
+    def _learn(step: Step, snapshot: Snapshot, belief: Belief, failure: str, from_point) -> None:
+        """What an exhausted recovery tells the planner through the belief."""
+        points = snapshot.facts.points
+        if step.name in MOVES + ("possible_ego_pose_adjustment",) and failure in ("path_blocked", "no_path"):
+            to = points[step.args[1]]
+            belief.blocked_moves.add((points[step.args[0]], to))
+            belief.blocked_moves.add((belief.robot, to))  # from where it stopped, too
+        elif step.name == "take_object" and failure == "not_found":
+            belief.forget(step.args[0])  # nothing there: a false detection, or it rolled away
+
+
+def _waypoint_at(snapshot: Snapshot, belief: Belief) -> str | None:
+    for n, p in snapshot.facts.points.items():
+        if math.dist(p, belief.robot) < 0.03:
+            return n
+    return None

@@ -212,8 +212,12 @@ class RoomMap:
                     facts.blocked[(a, b)] = round(later[i][j], 2)
                     blocked_pairs.append((i, j))
         # Tight deposit poses get an adjustment from their nearest navigable waypoint-free cell.
+        # So does a robot left in a tight pose that is no waypoint any more (the item it was
+        # to grasp from there turned out not to exist): it backs out the way it came.
         for n in names:
             if facts.kind[n] == "deposit" and later[names.index(n)][names.index(ENTRANCE)] is None:
+                self._adjust_into(facts, n, nav)
+            elif facts.kind[n] == "robot" and not nav.free(*facts.points[n]):
                 self._adjust_into(facts, n, nav)
         if blocked_pairs:
             self._blockers(facts, items, names, pts, blocked_pairs)
@@ -283,3 +287,25 @@ def deposit_waypoint(deposit: str) -> str:
 
 def _box_key(b: Box) -> tuple:
     return (b.cx, b.cy, b.sx, b.sy, b.name)
+
+
+def free_spots(
+    scenario: Scenario, around: Point, occupied: Sequence[Point], radii: tuple[float, float] = (0.45, 0.45)
+) -> list[Point]:
+    """Floor spots on rings ``radii`` around ``around``: inside the room, clear of furniture, and
+    20 cm from every point of ``occupied``. Where an item can be put down (drop_object), or where
+    one that slips out of the hand can land."""
+    x0, x1, y0, y1 = scenario.bounds
+    out = []
+    for r in sorted(set(radii)):
+        for k in range(16):
+            a = 2 * math.pi * k / 16
+            p = (round(around[0] + r * math.cos(a), 3), round(around[1] + r * math.sin(a), 3))
+            if not (x0 + 0.1 < p[0] < x1 - 0.1 and y0 + 0.1 < p[1] < y1 - 0.1):
+                continue
+            if any(f.box().clearance(*p) < 0.05 for f in scenario.furniture):
+                continue
+            if any(math.dist(p, q) < 0.2 for q in occupied):
+                continue
+            out.append(p)
+    return out

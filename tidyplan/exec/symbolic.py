@@ -25,12 +25,13 @@ from sim.grid import Box
 from sim.scenario import Scenario
 from sim.visibility import Box3, visible
 from tidyplan.belief import Detection
-from tidyplan.exec.geometry import ADJUST_MAX, GRASP_MAX, RoomMap
+from tidyplan.exec.geometry import GRASP_MAX, RoomMap, free_spots
 
 Point = tuple[float, float]
 
-LOOK_S, TAKE_S, DELIVER_S, DROP_S = 2.0, 12.0, 10.0, 8.0
-TAKE_TOLERANCE = 0.15  # m: the gripper finds an item this close to where it was believed to be
+LOOK_S, LOCATE_S, TAKE_S, DELIVER_S, DROP_S = 2.0, 1.0, 12.0, 10.0, 8.0
+TAKE_TOLERANCE = 0.15  # m: the gripper closes on an item this close to where it was located
+CLOSE_RANGE = 1.2  # m: what a close-range look (head down, hand camera) sees around the robot
 
 
 @dataclass(frozen=True, slots=True)
@@ -38,13 +39,16 @@ class Rates:
     """Success rates of the manipulation actions and the camera's error rates.
 
     Defaults: the domain's probabilities (take 0.95, deliver 0.98, drop 0.98) and Goebelbecker's
-    false negative 0.2 and false positive 0.05 (the scenario's [sensing] may set its own)."""
+    false negative 0.2 and false positive 0.05 (the scenario's [sensing] may set its own); no
+    drops in transit and no transient obstacles unless asked for (``--faults``)."""
 
     take: float = 0.95
     deliver: float = 0.98
     drop: float = 0.98
     false_negative: float | None = None  # None: the scenario's
     false_positive: float | None = None
+    grasp_drop: float = 0.0  # per carrying motion: the item falls near the robot
+    path_blocked: float = 0.0  # per motion: a transient obstacle stops the robot on its way
 
 
 @dataclass(slots=True)
@@ -123,34 +127,64 @@ class SymbolicWorld:
                 out.append(Detection(cat, round(x, 3), round(y, 3), "floor"))
         return out
 
-    # ------------------------------------------------------------------ actions
-    def move(self, to: Point, *, adjust: bool = False) -> Outcome:
-        """Drive along the shortest free path (or, ``adjust``, straight in a short careful pose
-        adjustment). Fails ``path_blocked`` when the true floor leaves no way: the robot stays."""
-        floor = [self._box(o) for o in self._placed() if o.on == "floor"]
-        if adjust:
-            bare = self.room.grid(floor, bare=True)
-            d = math.dist(self.robot, to)
-            if d > ADJUST_MAX + 0.05 or not bare.free(*to):
-                return self._fail("path_blocked", 2.0)
-            return self._arrive(to, d, d / (self.scenario.robot.speed / 2))
-        nav = self.room.grid(floor)
-        start, extra = self.robot, 0.0
-        if not nav.free(*start):  # in a tight pose: back out to the nearest navigable cell first
-            cells = [c for c in nav.free_cells() if math.dist(c, start) <= ADJUST_MAX + 0.05]
-            if not cells:
-                return self._fail("path_blocked", 2.0)
-            start = min(cells, key=lambda c: (math.dist(c, self.robot), c))
-            extra = math.dist(start, self.robot)
-        length = nav.path_length(start, to)
-        if length is None:
-            return self._fail("path_blocked", 2.0)
-        d = extra + length
-        return self._arrive(to, d, d / self.scenario.robot.speed)
+    def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None:
+        """Close-range look (head tilted down, the hand camera): the placed item nearest ``near``
+        within ``radius`` of it and within close range of the robot; missed at the false-negative
+        rate. This is how a unit's check finds its target, also one the head camera's minimum
+        range cannot see (at the robot's feet, where a dropped item lands)."""
+        self._spend(LOCATE_S)
+        found = [
+            o
+            for o in self._placed()
+            if math.dist((o.x, o.y), near) <= radius
+            and math.dist((o.x, o.y), self.robot) <= CLOSE_RANGE
+            and (category is None or o.category == category)
+        ]
+        if self.rng.random() < self.fn or not found:
+            return None
+        o = min(found, key=lambda o: (math.dist((o.x, o.y), near), o.name))
+        return Detection(o.category, o.x, o.y, o.on, o.sx, o.sy, o.sz)
 
-    def take(self, target: Point) -> Outcome:
-        """Grasp the item nearest to where it was believed to lie; ``not_found`` when there is none
-        within reach, ``grasp_fail`` at 1 - the take rate."""
+    def holds(self) -> bool:
+        """The gripper's sensor (finger angle, wrist force): is something in the hand?"""
+        return self.holding is not None
+
+    def pose(self) -> Point:
+        return self.robot
+
+    # ------------------------------------------------------------------ actions
+    def follow(self, path: list[Point], monitor=None, *, careful: bool = False) -> Outcome:
+        """Drive along ``path`` (its first point is where the robot is) at the robot's speed
+        (``careful``: half of it, a pose adjustment). Stops before the first point the true
+        footprint does not fit (an obstacle nobody has seen, or a transient one the
+        ``path_blocked`` fault puts there): ``path_blocked``. ``monitor.poll()`` runs after every
+        segment and stops the motion at once when it returns False (``interrupted``). An item in
+        the hand falls on the way at the ``grasp_drop`` rate."""
+        speed = self.scenario.robot.speed / (2 if careful else 1)
+        n = len(path)
+        blocked_u, drop_u = self.rng.random(), self.rng.random()
+        block_at = int(self.rng.integers(1, n)) if n > 1 and blocked_u < self.rates.path_blocked else None
+        drop_at = (
+            int(self.rng.integers(1, n)) if n > 1 and self.holding and drop_u < self.rates.grasp_drop else None
+        )
+        floor = [self._box(o) for o in self._placed() if o.on == "floor"]
+        bare = self.room.grid(floor, bare=True)
+        metres = seconds = 0.0
+        for k in range(1, n):
+            if k == block_at or not bare.free(*path[k]):
+                return self._stopped("path_blocked", metres, seconds)
+            d = math.dist(path[k - 1], path[k])
+            metres, seconds = metres + d, seconds + d / speed
+            self._arrive(path[k], d, d / speed)
+            if k == drop_at:
+                self._fall()
+            if monitor is not None and not monitor.poll():
+                return self._stopped("interrupted", metres, seconds)
+        return Outcome(True, None, seconds, metres)
+
+    def grasp(self, target: Point) -> Outcome:
+        """Close the gripper on the item at ``target`` (where a check located it); ``grasp_fail``
+        at 1 - the take rate leaves the item where it was."""
         if self.holding is not None:
             return self._fail("hand_full", 1.0)
         near = [
@@ -167,7 +201,9 @@ class SymbolicWorld:
         item.state, self.holding = "held", item.name
         return self._spend(TAKE_S)
 
-    def deliver(self, deposit: str, approach: Point) -> Outcome:
+    def place(self, deposit: str, approach: Point) -> Outcome:
+        """Put the held item into ``deposit`` from its approach pose; ``place_fail`` at
+        1 - the deliver rate keeps it in the hand."""
         if self.holding is None:
             return self._fail("hand_empty", 1.0)
         if math.dist(self.robot, approach) > 0.1:
@@ -178,17 +214,16 @@ class SymbolicWorld:
         item.state, item.deposit, self.holding = "tidied", deposit, None
         return self._spend(DELIVER_S)
 
-    def drop(self) -> Outcome:
-        """Put the held item on the floor in free space next to the robot, towards the nearest
-        wall (out of the way: Algorithm 1's "drop it in a free space nearby")."""
+    def put_down(self, spot: Point) -> Outcome:
+        """Put the held item on the floor at ``spot`` (next to the robot); ``place_fail`` at
+        1 - the drop rate, or when something the robot has not seen is lying there."""
         if self.holding is None:
             return self._fail("hand_empty", 1.0)
-        if self.rng.random() >= self.rates.drop:
+        if self.rng.random() >= self.rates.drop or any(
+            math.dist(spot, (o.x, o.y)) < 0.2 for o in self._placed()
+        ):
             return self._fail("place_fail", DROP_S)
         item = self.items[self.holding]
-        spot = self._free_spot(item)
-        if spot is None:
-            return self._fail("place_fail", DROP_S)
         item.x, item.y, item.on, item.state, self.holding = spot[0], spot[1], "floor", "placed", None
         out = self._spend(DROP_S)
         return Outcome(True, None, out.seconds, 0.0, spot)
@@ -221,21 +256,16 @@ class SymbolicWorld:
     def _box(o: TrueItem) -> Box:
         return Box(o.x, o.y, o.sx, o.sy, o.name)
 
-    def _free_spot(self, item: TrueItem) -> Point | None:
-        x0, x1, y0, y1 = self.scenario.bounds
-        centre = ((x0 + x1) / 2, (y0 + y1) / 2)
-        spots = []
-        for k in range(16):
-            a = 2 * math.pi * k / 16
-            p = (round(self.robot[0] + 0.45 * math.cos(a), 3), round(self.robot[1] + 0.45 * math.sin(a), 3))
-            if not (x0 + 0.1 < p[0] < x1 - 0.1 and y0 + 0.1 < p[1] < y1 - 0.1):
-                continue
-            if any(f.box().clearance(*p) < 0.05 for f in self.scenario.furniture):
-                continue
-            if any(math.dist(p, (o.x, o.y)) < 0.2 for o in self._placed()):
-                continue
-            spots.append((-math.dist(p, centre), p))
-        return min(spots)[1] if spots else None
+    def _fall(self) -> None:
+        """The held item slips out and lands on free floor near the robot (grasp_drop)."""
+        item = self.items[self.holding]
+        spots = free_spots(self.scenario, self.robot, [(o.x, o.y) for o in self._placed()], (0.32, 0.45))
+        k = int(self.rng.integers(0, len(spots))) if spots else None
+        x, y = spots[k] if k is not None else self.robot
+        item.x, item.y, item.on, item.state, self.holding = x, y, "floor", "placed", None
+
+    def _stopped(self, failure: str, metres: float, seconds: float) -> Outcome:
+        return Outcome(False, failure, seconds, metres)
 
     def _spend(self, seconds: float) -> Outcome:
         self.odometer.sim_time_s += seconds

@@ -51,6 +51,7 @@ class Counters:
     actions: int = 0
     replans: int = 0
     replans_avoided: int = 0
+    recoveries: int = 0
     causes: dict[str, int] = field(default_factory=dict)
     plan_times: list[float] = field(default_factory=list)
     strata: dict[str, int] = field(default_factory=lambda: {"P1": 0, "P2": 0, "P3": 0})
@@ -108,7 +109,7 @@ class Mission:
         # No check here: the plan was just made from this belief, or _monitor has checked the
         # rest of it (this step first) against the belief after the last action.
         step = self.steps.pop(0)
-        report = self.executor.execute(step, self.snapshot, self.belief)
+        report = self.executor.execute(step, self.snapshot, self.belief, self._observe)
         self._count(step, report)
         self.trace.emit(
             "action",
@@ -116,12 +117,14 @@ class Mission:
             stratum=step.stratum,
             ok=report.ok,
             failure=report.failure,
+            failure_class=report.failure_class,
+            recoveries=report.recoveries,
+            recovery_exhausted=report.recovery_exhausted,
             seconds=round(report.seconds, 2),
             metres=round(report.metres, 2),
             robot=list(map(_r, self.belief.robot)),
         )
-        new = self._observe(report.detections, report.waypoint)
-        return self._monitor(new, report, step)
+        return self._monitor(report.new, report, step)
 
     def _monitor(self, new: list[str], report, step: Step) -> str | None:
         unbound = self._bind(new)
@@ -149,13 +152,19 @@ class Mission:
                 else "goal not reached"
             )
             return self._replan(Cause.PLAN_INVALID, why)
-        if new or not report.ok:
+        if new or not report.ok or report.recoveries:
             self.count.replans_avoided += 1
             self.trace.emit("plan_kept", steps=len(self.steps))
         return None
 
+    def _drop_surplus(self) -> None:
+        for name in self.belief.surplus():
+            self.belief.forget(name)
+            self.trace.emit("forget", item=name, why="more of its category than the room holds: a false detection")
+
     def _finished(self) -> str | None:
         """The plan ran out: done if every expected item is tidied and the world agrees."""
+        self._drop_surplus()
         if not self.belief.untidied() and not self.belief.virtual():
             left = self.world.untidied()
             if left:
@@ -172,6 +181,7 @@ class Mission:
             return f"plan limit {self.config.max_plans} reached"
         self.pending.clear()
         self.bound.clear()
+        self._drop_surplus()
         if not self.belief.untidied() and not self.belief.virtual():
             return self._finished()  # e.g. the last item believed was a false detection
         attempts = self._goals()
@@ -344,6 +354,7 @@ class Mission:
     def _count(self, step: Step, report) -> None:
         c = self.count
         c.actions += 1
+        c.recoveries += report.recoveries
         c.segment = max(c.segment, step.stratum)
         carrying = self.belief.holding is not None
         if report.ok and (step.name != "move" or carrying or self.belief.must_move_back):

@@ -1,0 +1,85 @@
+"""The tidy domain's behaviour units against the symbolic world: the state monitor's interrupt,
+a class (C) drop mended by an inserted pick-up, and the belief keeping every object accounted for.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import replace
+
+from tests.test_loop import EXACT, _scenario
+from tidyplan.exec.geometry import RoomMap
+from tidyplan.exec.symbolic import SymbolicWorld
+from tidyplan.mission import Settings, run
+from tidyplan.monitor.unit import FailureClass, StateMonitor
+
+
+def _holding_world(rates):
+    scenario = _scenario("carry", [("t1", 1.8, 1.0)])
+    world = SymbolicWorld(scenario, RoomMap(scenario), seed=0, rates=rates)
+    world.robot = (1.8, 1.45)
+    assert world.grasp((1.8, 1.0)).ok and world.holds()
+    return world
+
+
+def test_the_state_monitor_interrupts_a_drive_the_moment_the_item_falls():
+    world = _holding_world(replace(EXACT, grasp_drop=1.0))
+    path = [(1.8, 1.45), (1.6, 1.45), (1.4, 1.45), (1.2, 1.45), (1.0, 1.45), (0.8, 1.45)]
+    monitor = StateMonitor()
+    monitor.watch("grasp_drop", FailureClass.C, world.holds)
+    out = world.follow(path, monitor)
+    assert not out.ok and out.failure == "interrupted"
+    assert monitor.fired.what == "grasp_drop" and monitor.fired.klass is FailureClass.C
+    # It stopped where the item fell, short of the goal, and went no further.
+    assert world.pose() in path[1:-1]
+    assert math.isclose(out.metres, path.index(world.pose()) * 0.2, abs_tol=1e-6)
+    item = world.items["t1"]
+    assert item.state == "placed" and 0.3 <= math.dist((item.x, item.y), world.pose()) <= 0.46
+
+
+def test_without_a_monitor_the_drive_goes_on_and_the_drop_goes_unnoticed():
+    world = _holding_world(replace(EXACT, grasp_drop=1.0))
+    path = [(1.8, 1.45), (1.6, 1.45), (1.4, 1.45)]
+    out = world.follow(path)
+    assert out.ok and world.pose() == path[-1] and not world.holds()
+
+
+def _events(path):
+    return [json.loads(line) for line in open(path, encoding="utf-8")]
+
+
+def test_a_drop_in_transit_is_picked_up_by_an_inserted_unit_and_the_drive_resumes(tmp_path, monkeypatch):
+    # The first carrying drive drops the toy (class C); after that nothing falls.
+    real_fall = SymbolicWorld._fall
+
+    def fall_once(self):
+        real_fall(self)
+        self.rates = replace(self.rates, grasp_drop=0.0)
+
+    monkeypatch.setattr(SymbolicWorld, "_fall", fall_once)
+    scenario = _scenario("drop", [("t1", 1.8, 1.0)])
+    trace = tmp_path / "t.jsonl"
+    summary = run(scenario, trace, Settings(rates=replace(EXACT, grasp_drop=1.0), time_budget=0.5))
+    assert summary["success"] and summary["lost_objects"] == 0
+    assert summary["replans"] == 0  # mended inside the action: the planner never knew
+    events = _events(trace)
+    steps = [e for e in events if e["kind"] in ("unit", "recovery")]
+    drop = next(i for i, e in enumerate(steps) if e.get("failure") == "grasp_drop")
+    assert steps[drop]["kind"] == "unit" and steps[drop]["unit"] == "navigate" and steps[drop]["interrupted"]
+    insert = steps[drop + 1]
+    assert insert["kind"] == "recovery" and insert["layer"] == "insert_unit"
+    assert insert["failure_class"] == "C" and insert["then"] == ["adjust_base", "grasp"]
+    after = [(e["unit"], e["step"], e["ok"], e["depth"]) for e in steps[drop + 2 :] if e["kind"] == "unit"]
+    # The pick-up (depth 1) ends with a grasp that holds, then the original drive (depth 0) runs
+    # again from its check and reaches the deposit.
+    first_nav = next(i for i, r in enumerate(after) if r[0] == "navigate")
+    assert ("grasp", "do", True, 1) in after[:first_nav]
+    assert all(r[3] == 1 for r in after[:first_nav])
+    assert after[first_nav : first_nav + 3] == [
+        ("navigate", "check", True, 0),
+        ("navigate", "plan", True, 0),
+        ("navigate", "do", True, 0),
+    ]
+    action = next(e for e in events if e["kind"] == "action" and e["recoveries"])
+    assert action["ok"] and action["action"].startswith("(move") and not action["recovery_exhausted"]

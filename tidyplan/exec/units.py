@@ -1,0 +1,342 @@
+"""Behaviour units of the tidy domain, against an injected world (symbolic now, pybullet later).
+
+Each unit reads and writes the belief as it goes, because only this layer knows what a grasp
+means physically; the world is reached only through its skills:
+
+    look() -> detections                 head camera sweep
+    locate(near, radius, category)       close-range look (head down, hand camera) -> detection
+    holds() -> bool                      the gripper's sensor
+    pose() -> (x, y)                     odometry
+    follow(path, monitor, careful=)      drive a path; monitor.poll() may stop it
+    grasp(point), place(deposit, approach), put_down(point) -> outcome
+
+Paths and poses are planned on the robot's own map (the static map plus the items the belief
+holds), not on the truth: an obstacle nobody has seen is found by driving into it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from tidyplan.belief import Belief
+from tidyplan.exec.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, free_spots
+from tidyplan.monitor.unit import Failure, FailureClass, StateMonitor, Unit
+
+Point = tuple[float, float]
+A, B, C = FailureClass.A, FailureClass.B, FailureClass.C
+
+FIND_RADIUS = 0.25  # m around the believed place a close look searches for the target
+FALL_SPREAD = 0.6  # m from where the hand let go that a dropped item is searched for
+ADJUST_PATH_MAX = 1.5  # m: the longest careful base adjustment around an item
+AT_POSE = 0.03  # m: the robot stands at a pose when this close
+
+
+@dataclass(slots=True)
+class Context:
+    """What the units of one action share: the world, the belief, and how to report a look."""
+
+    world: object
+    belief: Belief
+    observe: object  # observe(detections, waypoint) -> names of new items (the loop's)
+    new: list[str] = field(default_factory=list)
+
+    def look(self, waypoint: str | None = None) -> None:
+        self.new += self.observe(self.world.look(), waypoint)
+
+    def floor(self, without: str | None = None):
+        return [p.box() for p in self.belief.placed() if p.on == "floor" and p.name != without]
+
+
+class Navigate(Unit):
+    """move, move_back, possible_ego_pose_adjustment: plan a path on the robot's map, follow it.
+    Carrying, the state monitor watches the hand: an item that slips out stops the robot at once
+    (class C), and the pick-up is inserted before the drive goes on."""
+
+    name, phase = "navigate", "approach"
+
+    def __init__(self, ctx: Context, goal: Point, waypoint: str, careful: bool = False) -> None:
+        self.ctx, self.goal, self.waypoint, self.careful = ctx, goal, waypoint, careful
+        self.path: list[Point] = []
+        self.tries = 0
+        self.carrying: str | None = None
+
+    def check(self):
+        self.tries += 1
+        if self.tries > 1:
+            self.ctx.look()  # check again: what is in the way now?
+        return None
+
+    def plan(self):
+        pose = self.ctx.world.pose()
+        if math.dist(pose, self.goal) < AT_POSE:
+            self.path = [pose]
+            return None
+        room = self.ctx.belief.room
+        if self.careful:
+            bare = room.grid(self.ctx.floor(), bare=True)
+            if math.dist(pose, self.goal) > ADJUST_MAX + 0.05 or not bare.free(*self.goal):
+                return Failure(A, "no_path", "no careful pose adjustment reaches the pose")
+            self.path = [pose, self.goal]
+            return None
+        nav = room.grid(self.ctx.floor())
+        start, prefix = pose, [pose]
+        if not nav.free(*pose):  # in a tight pose: back out to the nearest navigable cell first
+            cells = [c for c in nav.free_cells() if math.dist(c, pose) <= ADJUST_MAX + 0.05]
+            if not cells:
+                return Failure(A, "no_path", "boxed in")
+            start = min(cells, key=lambda c: (math.dist(c, pose), c))
+            prefix = [pose, start]
+        inner = nav.path(start, self.goal)
+        if inner is None:
+            return Failure(A, "no_path", "no path on the map")
+        self.path = _dedupe(prefix + inner + [self.goal])
+        return None
+
+    def do(self, monitor: StateMonitor):
+        failure = _drive(self.ctx, self, self.path, monitor, self.careful)
+        if failure is None:
+            self.ctx.belief.at(self.goal, self.waypoint)
+        return failure
+
+    def insert_for(self, failure: Failure) -> list[Unit]:
+        return _pick_up_if_dropped(self.ctx, self, failure)
+
+
+class AdjustBase(Unit):
+    """Locate the item close up and bring the base within the arm's reach of it: no motion when
+    it already is; another pose around the item when asked to approach differently."""
+
+    name, phase = "adjust_base", "approach"
+
+    def __init__(self, ctx: Context, item: str) -> None:
+        self.ctx, self.item = ctx, item
+        self.target: Point | None = None
+        self.path: list[Point] | None = None
+        self.tried: list[Point] = []
+        self.another = False
+
+    def check(self):
+        return _locate(self.ctx, self.item, self)
+
+    def plan(self):
+        pose = self.ctx.world.pose()
+        d = math.dist(pose, self.target)
+        if GRASP_MIN - 0.05 <= d <= GRASP_MAX and not self.another:
+            self.path = None
+            return None
+        bare = self.ctx.belief.room.grid(self.ctx.floor(without=self.item), bare=True)
+        ring = [
+            (round(self.target[0] + GRASP_BEST * math.cos(a), 3), round(self.target[1] + GRASP_BEST * math.sin(a), 3))
+            for a in (2 * math.pi * k / 16 for k in range(16))
+        ]
+        ring = [p for p in ring if bare.free(*p) and all(math.dist(p, q) > 0.1 for q in self.tried + [pose])]
+        lengths = bare.lengths_from(pose, ring) if bare.free(*pose) else [None] * len(ring)
+        options = sorted((n, p) for n, p in zip(lengths, ring) if n is not None and n <= ADJUST_PATH_MAX)
+        if not options:
+            return Failure(A, "no_base_pose", f"no pose within reach of {self.item}")
+        goal = options[0][1]
+        self.path = _dedupe([pose] + (bare.path(pose, goal) or []) + [goal])
+        return None
+
+    def do(self, monitor: StateMonitor):
+        self.another = False
+        if self.path is None:
+            return None
+        world = self.ctx.world
+        self.tried.append(world.pose())
+        out = world.follow(self.path, monitor, careful=True)
+        self.ctx.belief.robot = world.pose()
+        return None if out.ok else Failure(A, out.failure or "path_blocked")
+
+    def again_differently(self) -> None:
+        self.another = True
+
+
+class Grasp(Unit):
+    """Locate the item relative to the hand, plan the grasp, close the gripper, and verify with
+    the gripper's sensor (class B when it closed on nothing: the item is almost unchanged)."""
+
+    name, phase, earlier = "grasp", "manipulation", "adjust_base"
+
+    def __init__(self, ctx: Context, item: str) -> None:
+        self.ctx, self.item = ctx, item
+        self.target: Point | None = None
+
+    def check(self):
+        if self.ctx.world.holds():
+            return Failure(A, "hand_full")
+        return _locate(self.ctx, self.item, self)
+
+    def plan(self):
+        d = math.dist(self.ctx.world.pose(), self.target)
+        if not GRASP_MIN - 0.1 <= d <= GRASP_MAX + 0.05:
+            return Failure(A, "out_of_reach", f"{self.item} is {d:.2f} m from the base")
+        return None
+
+    def do(self, monitor: StateMonitor):
+        out = self.ctx.world.grasp(self.target)
+        if not out.ok:
+            return Failure(B, out.failure or "grasp_fail")
+        if not self.ctx.world.holds():
+            return Failure(B, "grasp_fail", "the gripper's sensor finds the hand empty")
+        self.ctx.belief.taken(self.item)
+        return None
+
+
+class AlignAtDeposit(Unit):
+    """Stand at the deposit's approach pose with the item in hand: a short careful move if the
+    base is off it."""
+
+    name, phase = "approach_deposit", "approach"
+
+    def __init__(self, ctx: Context, approach: Point, waypoint: str) -> None:
+        self.ctx, self.approach, self.waypoint = ctx, approach, waypoint
+        self.path: list[Point] = []
+        self.carrying: str | None = None
+
+    def check(self):
+        return None if self.ctx.world.holds() else Failure(A, "hand_empty")
+
+    def plan(self):
+        pose = self.ctx.world.pose()
+        if math.dist(pose, self.approach) <= AT_POSE:
+            self.path = [pose]
+        elif math.dist(pose, self.approach) <= ADJUST_MAX:
+            self.path = [pose, self.approach]
+        else:
+            return Failure(A, "out_of_reach", "the deposit is too far for a pose adjustment")
+        return None
+
+    def do(self, monitor: StateMonitor):
+        if len(self.path) < 2:
+            return None
+        failure = _drive(self.ctx, self, self.path, monitor, careful=True)
+        if failure is None:
+            self.ctx.belief.at(self.approach, self.waypoint)
+        return failure
+
+    def insert_for(self, failure: Failure) -> list[Unit]:
+        return _pick_up_if_dropped(self.ctx, self, failure)
+
+
+class Place(Unit):
+    """Put the held item into the deposit and verify the hand let go (class B when it did not)."""
+
+    name, phase, earlier = "place", "manipulation", "approach_deposit"
+
+    def __init__(self, ctx: Context, item: str, deposit: str, approach: Point) -> None:
+        self.ctx, self.item, self.deposit, self.approach = ctx, item, deposit, approach
+
+    def check(self):
+        return None if self.ctx.world.holds() else Failure(A, "hand_empty")
+
+    def plan(self):
+        if math.dist(self.ctx.world.pose(), self.approach) > 0.1:
+            return Failure(A, "out_of_reach", f"not at {self.deposit}'s approach pose")
+        return None
+
+    def do(self, monitor: StateMonitor):
+        out = self.ctx.world.place(self.deposit, self.approach)
+        if not out.ok or self.ctx.world.holds():
+            return Failure(B, out.failure or "place_fail")
+        self.ctx.belief.delivered(self.item, self.deposit)
+        return None
+
+
+class PutDown(Unit):
+    """drop_object: put the held item on free floor next to the robot, towards the walls (out of
+    the way: Algorithm 1's "drop it in a free space nearby"); another spot after a failure."""
+
+    name, phase = "put_down", "manipulation"
+
+    def __init__(self, ctx: Context, item: str) -> None:
+        self.ctx, self.item = ctx, item
+        self.spot: Point | None = None
+        self.tried: list[Point] = []
+
+    def check(self):
+        return None if self.ctx.world.holds() else Failure(A, "hand_empty")
+
+    def plan(self):
+        belief = self.ctx.belief
+        x0, x1, y0, y1 = belief.scenario.bounds
+        centre = ((x0 + x1) / 2, (y0 + y1) / 2)
+        occupied = [p.xy for p in belief.placed()] + self.tried
+        spots = free_spots(belief.scenario, self.ctx.world.pose(), occupied)
+        if not spots:
+            return Failure(A, "no_spot", "no free floor next to the robot")
+        self.spot = max(spots, key=lambda p: (math.dist(p, centre), p))
+        return None
+
+    def do(self, monitor: StateMonitor):
+        out = self.ctx.world.put_down(self.spot)
+        if not out.ok:
+            self.tried.append(self.spot)
+            return Failure(B, out.failure or "place_fail")
+        self.ctx.belief.put(self.item, *self.spot)
+        self.ctx.belief.must_move_back = True
+        return None
+
+
+class Look(Unit):
+    """observing: a head-camera sweep from where the robot stands."""
+
+    name, phase = "look", "observe"
+
+    def __init__(self, ctx: Context, waypoint: str | None) -> None:
+        self.ctx, self.waypoint = ctx, waypoint
+
+    def do(self, monitor: StateMonitor):
+        self.ctx.look(self.waypoint)
+        return None
+
+
+def _drive(ctx: Context, unit, path: list[Point], monitor: StateMonitor, careful: bool) -> Failure | None:
+    """Follow ``path``; carrying, the state monitor watches the hand and stops the robot the
+    moment the item slips out (class C), and the belief puts the item near the robot at once."""
+    world, belief = ctx.world, ctx.belief
+    unit.carrying = belief.holding
+    if unit.carrying is not None:
+        monitor.watch("grasp_drop", C, world.holds)
+    out = world.follow(path, monitor, careful=careful)
+    belief.robot = world.pose()
+    if out.ok:
+        return None
+    if monitor.fired is not None:
+        if unit.carrying is not None and not world.holds():
+            belief.fell(unit.carrying, world.pose(), FALL_SPREAD)  # accounted for at once
+        return monitor.fired
+    return Failure(A, out.failure or "path_blocked")
+
+
+def _pick_up_if_dropped(ctx: Context, unit, failure: Failure) -> list[Unit]:
+    if failure.what == "grasp_drop" and unit.carrying is not None:
+        return pick_up(ctx, unit.carrying)
+    return []
+
+
+def pick_up(ctx: Context, item: str) -> list[Unit]:
+    """The units inserted for a dropped item (class C): find it, stand within reach, grasp it."""
+    return [AdjustBase(ctx, item), Grasp(ctx, item)]
+
+
+def _locate(ctx: Context, item: str, unit) -> Failure | None:
+    """A unit's check: find ``item`` close up near its believed place; record where it is."""
+    k = ctx.belief.items.get(item)
+    if k is None:
+        return Failure(A, "not_found", f"{item} is not in the belief")
+    seen = ctx.world.locate((k.x, k.y), max(FIND_RADIUS, k.spread), k.category)
+    if seen is None:
+        return Failure(A, "not_found", f"no {k.category} near ({k.x:.2f}, {k.y:.2f})")
+    ctx.belief.relocate(item, seen.x, seen.y)
+    unit.target = (seen.x, seen.y)
+    return None
+
+
+def _dedupe(path: list[Point]) -> list[Point]:
+    out: list[Point] = []
+    for p in path:
+        if not out or math.dist(out[-1], p) > 1e-6:
+            out.append(p)
+    return out
