@@ -186,6 +186,13 @@ def _progress(total: int):
         elif e["kind"] == "action" and e["ok"] and e["action"].startswith("(deliver_it"):
             tidied[0] += 1
             print(f"[{e['sim_s']:7.1f} s] tidied {tidied[0]}/{total}: {e['action']}", file=sys.stderr)
+        elif e["kind"] == "recovery":
+            then = ", ".join(e["then"] or [])
+            print(
+                f"[{e['sim_s']:7.1f} s]   recovery {e['attempt']}: {e['unit']} {e['failure']} "
+                f"({e['failure_class']}) -> {e['layer']}" + (f": {then}" if then else ""),
+                file=sys.stderr,
+            )
         elif e["kind"] == "end":
             print(f"[{e['sim_s']:7.1f} s] end: {e['reason']}", file=sys.stderr)
 

@@ -8,10 +8,16 @@ items as obstacles, line of sight against furniture and items (``sim.visibility`
 
 Randomness comes from one seeded generator, drawn in a fixed order, so a seed fixes the run.
 
+The robot acts through skills the behaviour units call (``tidyplan.exec.units``): ``look``,
+``locate`` (close range), ``holds`` (the gripper's sensor), ``follow`` (a path, with a state
+monitor polled after every segment), ``grasp``, ``place``, ``put_down``. Faults by rate:
+grasps that close on nothing, placements that fail, false negatives and positives, items that
+fall while carried (``grasp_drop``), transient obstacles (``path_blocked``).
+
 Durations on the simulated clock (our figures, documented in docs/trace.md): driving at the
-scenario's robot speed (the HSR's 0.8 km/h = 0.22 m/s by default); a pose adjustment at half
-that; a look 2 s (a head sweep); a grasp 12 s, a placement 10 s, a drop 8 s (arm motions of
-a few seconds each, plus perception, as on the real HSR).
+scenario's robot speed (the HSR's 0.8 km/h = 0.22 m/s by default); a careful pose adjustment at
+half that; a look 2 s (a head sweep); a close-range locate 1 s; a grasp 12 s, a placement 10 s,
+a drop 8 s (arm motions of a few seconds each, plus perception, as on the real HSR).
 """
 
 from __future__ import annotations
@@ -171,7 +177,7 @@ class SymbolicWorld:
         bare = self.room.grid(floor, bare=True)
         metres = seconds = 0.0
         for k in range(1, n):
-            if k == block_at or not bare.free(*path[k]):
+            if k == block_at or not _segment_free(bare, path[k - 1], path[k]):
                 return self._stopped("path_blocked", metres, seconds)
             d = math.dist(path[k - 1], path[k])
             metres, seconds = metres + d, seconds + d / speed
@@ -284,3 +290,9 @@ class SymbolicWorld:
             held = self.items[self.holding]
             held.x, held.y = to
         return Outcome(True, None, seconds, metres)
+
+
+def _segment_free(grid, a: Point, b: Point, step: float = 0.05) -> bool:
+    """Every point from a (excluded: the robot is there) to b, ``step`` apart, fits the robot."""
+    n = max(1, math.ceil(math.dist(a, b) / step))
+    return all(grid.free(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) for k in range(1, n + 1))
