@@ -208,7 +208,7 @@ class Belief:
             matched.add(name)
             update.new.append(name)
         for k in self.untidied():
-            if k.state != "placed" or k.name in matched or not self._should_see(k):
+            if k.state != "placed" or k.name in matched or not self.should_see(k):
                 continue
             k.misses += 1
             if k.misses >= FORGET_AFTER:
@@ -274,7 +274,7 @@ class Belief:
                 return name
         return None
 
-    def _should_see(self, k: Known) -> bool:
+    def should_see(self, k: Known) -> bool:
         s = self.scenario.sensing
         z = 0.05 if k.on == "floor" else self.scenario.furniture_named(k.on).height + 0.05
         if math.dist(self.robot, (k.x, k.y)) > MISS_RANGE:

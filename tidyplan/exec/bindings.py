@@ -66,6 +66,8 @@ class MonitoredExecutor:
 
         runner = Runner(self.config, emit)
         result = runner.run(self.units(step, snapshot, ctx))
+        if result.ok and step.name == "move_back":
+            belief.must_move_back = False  # the domain's effect: back where the item was taken
         if not result.ok:
             self._learn(step, snapshot, belief, result.failure.what, from_point)
         here = _waypoint_at(snapshot, belief)

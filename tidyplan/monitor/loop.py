@@ -36,6 +36,7 @@ from tidyplan.problem import Snapshot, write
 from tidyplan.strata import transition
 
 STRATEGIES = {"ofsm": None, "greedy": 1}  # strategy -> highest stratum it may use
+LOOKS_BEFORE_GIVING_UP = 3  # as many as the belief needs to forget an item that is not there
 
 
 @dataclass(frozen=True, slots=True)
@@ -81,6 +82,7 @@ class Mission:
         self.pending: list[Step] = []  # assumptions passed in the plan, not yet confirmed
         self.bound: dict[str, str] = {}  # virtual object -> seen item
         self.stratum: int | None = None
+        self._looks_left = LOOKS_BEFORE_GIVING_UP
         self._plain = trace.save("domain.pddl", self.domain_text)
 
     # ------------------------------------------------------------------ the loop
@@ -194,13 +196,25 @@ class Mission:
                 if p < self.config.min_probability:
                     return f"best plan's success probability {p:.2g} below {self.config.min_probability:g}"
                 self._adopt(result, snap, problem)
+                self._looks_left = LOOKS_BEFORE_GIVING_UP
                 return None
         if self.belief.virtual() and self.belief.scene_changed:
             self.belief.reset_exploration()  # items moved: views blocked before may be open now
             self.trace.emit("explore_again", unseen=len(self.belief.virtual()))
             return self._replan(cause, why)
+        if self._looks_left > 0 and self._worth_looking():
+            # Before giving up, look again from here: an item believed in the way that is not
+            # there (a false detection) is forgotten after a few looks that should have seen it.
+            self._looks_left -= 1
+            self.trace.emit("look_again", looks_left=self._looks_left)
+            self._observe(self.world.look(), None)
+            return self._replan(cause, why)
         left = [k.name for k in self.belief.untidied()] + [v for v, _ in self.belief.virtual()]
         return f"no plan for {' '.join(left)}" if left else "no plan"
+
+    def _worth_looking(self) -> bool:
+        """A look can change the belief: some believed item is in view and could be missed."""
+        return any(self.belief.should_see(k) for k in self.belief.untidied() if k.state == "placed")
 
     def _goals(self):
         """Goals to try in order: everything; the items seen; each seen item that can be planned
