@@ -63,7 +63,10 @@ def main() -> int:
         for r in pool.map(mission, jobs):
             results.append(r)
             if r["crash"]:
-                print(f"{r['case']} seed {r['seed']:2d}: CRASH {r['crash'].strip().splitlines()[-1]}", flush=True)
+                print(
+                    f"{r['case']} seed {r['seed']:2d}: CRASH {r['crash'].strip().splitlines()[-1]}",
+                    flush=True,
+                )
             else:
                 print(
                     f"{r['case']} seed {r['seed']:2d}: {'tidied' if r['success'] else 'FAILED'} "
@@ -73,8 +76,10 @@ def main() -> int:
                     flush=True,
                 )
     print()
-    print(f"{'case':8} {'missions':>8} {'tidied all':>11} {'lost':>5} {'crashes':>8} "
-          f"{'replans':>8} {'recoveries':>11} {'sim time':>9} {'distance':>9}")
+    print(
+        f"{'case':8} {'missions':>8} {'tidied all':>11} {'lost':>5} {'crashes':>8} "
+        f"{'replans':>8} {'recoveries':>11} {'sim time':>9} {'distance':>9}"
+    )
     ok = True
     for case in cases + ["all"]:
         rs = [r for r in results if case == "all" or r["case"] == case]
@@ -85,7 +90,7 @@ def main() -> int:
         share = tidied / len(rs)
         ok &= case != "all" or (share >= 0.95 and lost == 0 and crashes == 0)
 
-        def mean(key):
+        def mean(key, done=done):
             return statistics.mean(r[key] for r in done) if done else float("nan")
 
         print(

@@ -128,7 +128,11 @@ class Belief:
         """Untidied items of a category whose every expected item is tidied already: false
         detections, for the room holds no more of that category."""
         done = Counter(k.category for k in self.items.values() if k.state == "tidied")
-        return [k.name for k in self.untidied() if k.state == "placed" and done[k.category] >= self.expected[k.category]]
+        return [
+            k.name
+            for k in self.untidied()
+            if k.state == "placed" and done[k.category] >= self.expected[k.category]
+        ]
 
     def placed(self) -> list[Placed]:
         return [k.placed() for k in self.untidied() if k.state == "placed"]

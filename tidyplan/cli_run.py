@@ -137,9 +137,8 @@ def cmd_run(args) -> int:
 
     if args.gui:
         raise InputError("--gui: the pybullet world is not built yet; run with --world symbolic")
-    from tidyplan.mission import project_file
-
     from tidyplan.engines import check_name
+    from tidyplan.mission import project_file
 
     scenario = _scenario(args.scenario or project_file(DEFAULT_SCENARIO))
     check_name(args.planner)

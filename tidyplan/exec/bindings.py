@@ -49,17 +49,16 @@ class Report:
 class MonitoredExecutor:
     """Runs each symbolic action as behaviour units under layered recovery (tidyplan.monitor)."""
 
-    def __init__(self, world, emit=None, config: RecoveryConfig = RecoveryConfig()) -> None:
+    def __init__(self, world, emit=None, config: RecoveryConfig | None = None) -> None:
         self.world = world
         self.emit = emit or (lambda kind, **fields: None)
-        self.config = config
+        self.config = config or RecoveryConfig()
 
     def execute(self, step: Step, snapshot: Snapshot, belief: Belief, observe) -> Report:
         ctx = Context(self.world, belief, observe)
         text = "(" + " ".join((step.name, *step.args)) + ")"
         clock = self.world.odometer
         t0, d0 = clock.sim_time_s, clock.distance_m
-        from_point = belief.robot
 
         def emit(kind, **fields):
             self.emit(kind, action=text, **fields)
@@ -69,7 +68,7 @@ class MonitoredExecutor:
         if result.ok and step.name == "move_back":
             belief.must_move_back = False  # the domain's effect: back where the item was taken
         if not result.ok:
-            self._learn(step, snapshot, belief, result.failure.what, from_point)
+            self._learn(step, snapshot, belief, result.failure.what)
         here = _waypoint_at(snapshot, belief)
         Runner(self.config, emit).run([Look(ctx, here)])
         return Report(
@@ -101,7 +100,7 @@ class MonitoredExecutor:
         raise ValueError(f"no binding for action {name!r}")
 
     @staticmethod
-    def _learn(step: Step, snapshot: Snapshot, belief: Belief, failure: str, from_point) -> None:
+    def _learn(step: Step, snapshot: Snapshot, belief: Belief, failure: str) -> None:
         """What an exhausted recovery tells the planner through the belief."""
         points = snapshot.facts.points
         if step.name in MOVES + ("possible_ego_pose_adjustment",) and failure in ("path_blocked", "no_path"):

@@ -171,7 +171,9 @@ class SymbolicWorld:
         blocked_u, drop_u = self.rng.random(), self.rng.random()
         block_at = int(self.rng.integers(1, n)) if n > 1 and blocked_u < self.rates.path_blocked else None
         drop_at = (
-            int(self.rng.integers(1, n)) if n > 1 and self.holding and drop_u < self.rates.grasp_drop else None
+            int(self.rng.integers(1, n))
+            if n > 1 and self.holding and drop_u < self.rates.grasp_drop
+            else None
         )
         floor = [self._box(o) for o in self._placed() if o.on == "floor"]
         bare = self.room.grid(floor, bare=True)

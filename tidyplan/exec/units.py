@@ -126,13 +126,16 @@ class AdjustBase(Unit):
             self.path = None
             return None
         bare = self.ctx.belief.room.grid(self.ctx.floor(without=self.item), bare=True)
+        tx, ty = self.target
         ring = [
-            (round(self.target[0] + GRASP_BEST * math.cos(a), 3), round(self.target[1] + GRASP_BEST * math.sin(a), 3))
+            (round(tx + GRASP_BEST * math.cos(a), 3), round(ty + GRASP_BEST * math.sin(a), 3))
             for a in (2 * math.pi * k / 16 for k in range(16))
         ]
         ring = [p for p in ring if bare.free(*p) and all(math.dist(p, q) > 0.1 for q in self.tried + [pose])]
         lengths = bare.lengths_from(pose, ring) if bare.free(*pose) else [None] * len(ring)
-        options = sorted((n, p) for n, p in zip(lengths, ring) if n is not None and n <= ADJUST_PATH_MAX)
+        options = sorted(
+            (n, p) for n, p in zip(lengths, ring, strict=True) if n is not None and n <= ADJUST_PATH_MAX
+        )
         if not options:
             return Failure(A, "no_base_pose", f"no pose within reach of {self.item}")
         goal = options[0][1]

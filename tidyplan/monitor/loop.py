@@ -162,7 +162,9 @@ class Mission:
     def _drop_surplus(self) -> None:
         for name in self.belief.surplus():
             self.belief.forget(name)
-            self.trace.emit("forget", item=name, why="more of its category than the room holds: a false detection")
+            self.trace.emit(
+                "forget", item=name, why="more of its category than the room holds: a false detection"
+            )
 
     def _finished(self) -> str | None:
         """The plan ran out: done if every expected item is tidied and the world agrees."""

@@ -54,8 +54,8 @@ class Runner:
     """Runs units with layered recovery; ``emit`` receives a ``unit`` event per function run and a
     ``recovery`` event per recovery step."""
 
-    def __init__(self, config: RecoveryConfig = RecoveryConfig(), emit: Emit | None = None) -> None:
-        self.config = config
+    def __init__(self, config: RecoveryConfig | None = None, emit: Emit | None = None) -> None:
+        self.config = config or RecoveryConfig()
         self.emit = emit or (lambda kind, **fields: None)
         self.recoveries = 0
 

@@ -21,12 +21,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from enum import Enum
+from enum import StrEnum
 
 PHASES = ("check", "plan", "do")
 
 
-class FailureClass(str, Enum):
+class FailureClass(StrEnum):
     A = "A"  # before manipulation
     B = "B"  # after manipulation, target almost unchanged
     C = "C"  # manipulation condition changed significantly
