@@ -8,6 +8,7 @@ are documented in docs/trace.md; a reader skips kinds it does not know.
 from __future__ import annotations
 
 import json
+import math
 import os
 import time
 from pathlib import Path
@@ -68,3 +69,14 @@ class TraceWriter:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def polyline(points, step: float = 0.1) -> list[list[float]]:
+    """A driven path as the trace stores it: points at least ``step`` metres apart (the last
+    always kept), each [x, y] rounded to 3 decimals; enough to draw, small enough to write."""
+    out: list[list[float]] = []
+    for i, (x, y) in enumerate(points):
+        last = i == len(points) - 1
+        if not out or last or math.dist(out[-1], (x, y)) >= step:
+            out.append([round(x, 3), round(y, 3)])
+    return out
