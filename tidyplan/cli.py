@@ -1,4 +1,5 @@
-"""The `tidyplan` command: check, plan, compile (here), run and reproduce (cli_run.py).
+"""The `tidyplan` command: check, plan, compile (here), run and reproduce (cli_run.py), trace
+(cli_trace.py).
 
 Only this module turns errors into exit statuses: 0 success, 1 no plan,
 2 bad input (a file, an option), never a traceback for either.
@@ -15,7 +16,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from . import cli_run
+from . import cli_run, cli_trace
 from .errors import Diagnostic, InputError, PlannerError, TidyplanError
 
 COMPILED_HEADER = "; plain PDDL compiled by tidyplan"
@@ -68,6 +69,7 @@ def _parser() -> argparse.ArgumentParser:
     co.add_argument("--max-stratum", type=_stratum, default=None, metavar="K", help="keep strata 1..K only")
     co.add_argument("--force", action="store_true", help="overwrite files there that tidyplan did not write")
     cli_run.add_parsers(sub, _positive)
+    cli_trace.add_parser(sub)
     return p
 
 
@@ -230,6 +232,7 @@ COMMANDS = {
     "compile": cmd_compile,
     "run": cli_run.cmd_run,
     "reproduce": cli_run.cmd_reproduce,
+    "trace": cli_trace.cmd_trace,
 }
 
 
