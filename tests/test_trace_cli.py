@@ -201,6 +201,12 @@ def test_a_newer_schema_with_an_unknown_kind_is_read_with_one_warning(faulty, tm
             b'{"v": 1, "seq": 0, "kind": "plan"}\n',
             "not a tidyplan trace: it has no start event (the first is 'plan')",
         ),
+        (
+            "garbled.jsonl",
+            b'{"v": 1, "seq": 0, "kind": "start", "wall_s": 0, "sim_s": 0}\n'
+            b'{"v": 1, "seq": 1, "kind": "plan", "wall_s": 0, "sim_s": 0, "replan": "one"}\n',
+            'not a tidyplan trace: line 2: a plan event whose "replan" is missing or not a whole number',
+        ),
     ],
 )
 def test_a_file_that_is_not_a_trace_is_one_line_and_exit_2(name, content, why, tmp_path, capsys):

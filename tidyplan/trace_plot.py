@@ -115,7 +115,7 @@ def _map(ax, trace: Trace, scenario) -> None:
     segments = [(a["xy"], b["xy"]) for a, b in zip(points, points[1:], strict=False)]
     plans = [PLAN_COLOURS[b["plan"] % len(PLAN_COLOURS)] for b in points[1:]]
     ax.add_collection(LineCollection(segments, colors=plans, linewidths=2.2, zorder=4))
-    if points:
+    if points and (scenario is not None or trace.start.get("robot") is not None):  # the start is known
         ax.plot(*points[0]["xy"], marker="^", color="black", markersize=11, zorder=6)
         ax.annotate("start", points[0]["xy"], xytext=(6, -12), textcoords="offset points", fontsize=8)
     _replans(ax, trace)

@@ -40,6 +40,18 @@ CAUSES = {
     "new_object": "v",
 }
 NO_SUMMARY = "without a summary (the run was stopped before it ended)"
+NUMBER = (int, float)
+WHAT = {NUMBER: "a number", int: "a whole number", str: "a string", list: "a list", bool: "true or false"}
+# What the readers below index without looking: a known event lacking it is not read as one.
+REQUIRED = {
+    "plan": {"replan": int, "plan": list, "cause": str, "status": str},
+    "action": {"action": str, "ok": bool},
+    "unit": {"unit": str, "step": str},
+    "recovery": {"unit": str},
+    "bind": {"virtual": str, "item": str},
+    "assumption": {"holds": bool},
+    "assume": {"action": str},
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,9 +104,12 @@ def read_trace(path: str | os.PathLike) -> Trace:
             raise _not_a_trace(where, f"line {n} is not JSON ({e.msg})") from None
         if not isinstance(event, dict) or not isinstance(event.get("kind"), str):
             raise _not_a_trace(where, f'line {n} is not a trace event (no "kind")')
+        if not events and event["kind"] != "start":
+            raise _not_a_trace(where, f"it has no start event (the first is {event['kind']!r})")
+        wrong = _malformed(event)
+        if wrong:
+            raise _not_a_trace(where, f"line {n}: a {event['kind']} event {wrong}")
         events.append(event)
-    if events[0]["kind"] != "start":
-        raise _not_a_trace(where, f"it has no start event (the first is {events[0]['kind']!r})")
     versions = [e["v"] for e in events if isinstance(e.get("v"), int)]
     version = max(versions, default=SCHEMA_VERSION)
     known = tuple(e for e in events if e["kind"] in KINDS)
@@ -125,6 +140,18 @@ def read_trace(path: str | os.PathLike) -> Trace:
             )
         )
     return Trace(Path(where), known, version, skipped, truncated, tuple(warnings))
+
+
+def _malformed(event: dict) -> str | None:
+    """What a known event lacks that the readers rely on, or None (unknown kinds: None)."""
+    if event["kind"] not in KINDS:
+        return None
+    fields = {"sim_s": NUMBER, "wall_s": NUMBER} | REQUIRED.get(event["kind"], {})
+    for name, kind in fields.items():
+        value = event.get(name)
+        if not isinstance(value, kind) or (kind is not bool and isinstance(value, bool)):
+            return f'whose "{name}" is missing or not {WHAT[kind]}'
+    return None
 
 
 def _text(where: str) -> str:
@@ -341,7 +368,7 @@ def replan_points(trace: Trace) -> list[dict]:
     for e in trace.events:
         if e["kind"] == "action" and e.get("robot") is not None:
             at = e["robot"]
-        elif e["kind"] == "plan" and e.get("replan", 0) > 0 and e["replan"] not in seen:
+        elif e["kind"] == "plan" and e["replan"] > 0 and e["replan"] not in seen:
             seen.add(e["replan"])
             out.append({"replan": e["replan"], "cause": e.get("cause"), "sim_s": e["sim_s"], "xy": at})
     return out
