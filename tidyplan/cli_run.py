@@ -20,6 +20,9 @@ DEFAULT_SCENARIO = "problems/case3.toml"
 CASES = {"I": "case1.toml", "II": "case2.toml", "III": "case3.toml"}
 # Yan et al., Table II: uses of P1, P2, P3 and total actions per case (O-FSM scenario planning)
 TABLE2 = {"I": (12, 0, 0, 36), "II": (10, 1, 1, 45), "III": (11, 0, 1, 52)}
+# Yan et al., Table III: simulation time (s) and distance (m) per case; greedy fails II and III
+TABLE3 = {"I": (661, 56.87), "II": (822, 80.69), "III": (919, 91.36)}
+TABLE3_GREEDY = {"I": (661, 56.87), "II": None, "III": None}
 # Faults the world injects, as rates; the execution monitor recovers from them.
 FAULTS = {
     "grasp_fail": "a grasp closes on nothing (take_object; default 0.05)",
@@ -36,9 +39,9 @@ def add_parsers(sub, positive) -> None:
     r.add_argument("scenario", nargs="?", help=f"scenario file (default: {DEFAULT_SCENARIO})")
     r.add_argument(
         "--world",
-        choices=("symbolic",),
-        default="symbolic",
-        help="the world to run in (the pybullet world is not built yet)",
+        choices=("pybullet", "symbolic"),
+        default="pybullet",
+        help="pybullet (default): the HSR in the physics world; symbolic: the fast world with a hidden truth",
     )
     r.add_argument(
         "--strategy",
@@ -81,7 +84,11 @@ def add_parsers(sub, positive) -> None:
     r.add_argument("--quiet", action="store_true", help="no progress lines")
 
     rp = sub.add_parser("reproduce", help="regenerate a table of the O-FSM paper from our own runs")
-    rp.add_argument("table", choices=("table2",))
+    rp.add_argument(
+        "table",
+        choices=("table2", "table3"),
+        help="table2: plan uses per case (symbolic world); table3: time and distance (pybullet)",
+    )
     rp.add_argument("--seed", type=int, default=0)
     rp.add_argument("--time-budget", type=positive, default=1.0, metavar="SECONDS")
     rp.add_argument("--out", default="runs", metavar="DIR", help="folder for the traces (default runs/)")
@@ -135,8 +142,8 @@ def _trace_path(folder: Path, stem: str) -> Path:
 def cmd_run(args) -> int:
     from tidyplan.mission import Settings, run  # the planner stack loads only when needed
 
-    if args.gui:
-        raise InputError("--gui: the pybullet world is not built yet; run with --world symbolic")
+    if args.gui and args.world != "pybullet":
+        raise InputError("--gui: only the pybullet world has a window (drop --world symbolic)")
     from tidyplan.engines import check_name
     from tidyplan.mission import project_file
 
@@ -160,6 +167,8 @@ def cmd_run(args) -> int:
         min_probability=args.min_probability,
         rates=rates,
         max_recovery=args.max_recovery,
+        world=args.world,
+        gui=args.gui,
     )
     show = None if args.quiet else _progress(len(scenario.items))
     summary = run(scenario, trace, settings, on_event=show)
@@ -220,19 +229,28 @@ def _print_summary(s: dict) -> None:
 def cmd_reproduce(args) -> int:
     from tidyplan.mission import Settings, project_file, run
 
+    world = "pybullet" if args.table == "table3" else "symbolic"
     rows = []
     for case, file in CASES.items():
         scenario = _scenario(project_file(f"problems/{file}"))
         out = {}
         for strategy in ("ofsm", "greedy"):
-            trace = _trace_path(Path(args.out), f"table2-{scenario.name}-{strategy}-s{args.seed}")
-            print(f"case {case}, {strategy} ...", file=sys.stderr)
-            out[strategy] = run(scenario, trace, Settings(strategy, args.seed, time_budget=args.time_budget))
+            trace = _trace_path(Path(args.out), f"{args.table}-{scenario.name}-{strategy}-s{args.seed}")
+            print(f"case {case}, {strategy} ({world}) ...", file=sys.stderr)
+            settings = Settings(strategy, args.seed, time_budget=args.time_budget, world=world)
+            out[strategy] = run(scenario, trace, settings)
         rows.append((case, out))
     if args.json:
-        print(json.dumps([{"case": c, **{k: v for k, v in o.items()}} for c, o in rows]))
-        return 0
-    print(f"Table II (Yan et al.), O-FSM scenario planning: paper | ours (symbolic world, seed {args.seed})")
+        print(json.dumps([{"case": c, **o} for c, o in rows]))
+    elif args.table == "table3":
+        _print_table3(rows, args.seed)
+    else:
+        _print_table2(rows, args.seed)
+    return 0 if all(o["ofsm"]["success"] for _, o in rows) else 1
+
+
+def _print_table2(rows, seed: int) -> None:
+    print(f"Table II (Yan et al.), O-FSM scenario planning: paper | ours (symbolic world, seed {seed})")
     print(
         f"{'case':5} {'P1':>9} {'P2':>9} {'P3':>9} {'actions':>11} {'ours: all actions':>18} "
         f"{'replans':>8} {'tidied':>7} {'greedy':>12}"
@@ -251,4 +269,26 @@ def cmd_reproduce(args) -> int:
         "actions: Yan et al.'s count (take_object includes the approach; P1 = 3, P2 = 4, P3 = 4 per "
         "object moved aside + 3); 'all actions' counts every executed action, moves to objects included."
     )
-    return 0 if all(o["ofsm"]["success"] for _, o in rows) else 1
+
+
+def _print_table3(rows, seed: int) -> None:
+    print(f"Table III (Yan et al.), simulation: paper | ours (pybullet HSR, seed {seed})")
+    print(
+        f"{'case':5} {'method':7} {'time (s)':>17} {'distance (m)':>19} {'tidied':>8} {'lost':>5} "
+        f"{'replans':>8} {'wall (s)':>9}"
+    )
+    for case, o in rows:
+        for strategy, paper in (("ofsm", TABLE3[case]), ("greedy", TABLE3_GREEDY[case])):
+            r = o[strategy]
+            if paper is None:
+                t_paper, d_paper = "fails", "fails"
+            else:
+                t_paper, d_paper = f"{paper[0]}", f"{paper[1]:.2f}"
+            ours_t = f"{r['sim_time_s']:.0f}" if r["success"] else "fails"
+            ours_d = f"{r['distance_m']:.2f}" if r["success"] else "fails"
+            print(
+                f"{case:5} {strategy:7} {t_paper:>7} | {ours_t:<7} {d_paper:>8} | {ours_d:<8} "
+                f"{r['delivered']:>5}/{r['objects']:<2} {r['lost_objects']:>5} {r['replans']:>8} "
+                f"{r['wall_time_s']:>9.1f}"
+            )
+    print("ours: simulated time and distance of the run; 'fails' where not every object was tidied.")

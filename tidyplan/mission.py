@@ -44,6 +44,8 @@ class Settings:
     min_probability: float = 1e-4
     rates: Rates = Rates()
     max_recovery: int = 3  # recovery iterations per failing unit before the planner reworks the task
+    world: str = "symbolic"  # or "pybullet"
+    gui: bool = False  # pybullet only: open the window and follow the robot
 
 
 def run(
@@ -53,12 +55,30 @@ def run(
     domain: str | Path = DOMAIN,
     on_event=None,
 ) -> dict:
-    """Run a mission in the symbolic world; returns the summary (also the trace's last event)."""
+    """Run a mission in the world ``settings.world`` names; returns the summary (also the trace's
+    last event). The pybullet world's physics server is closed when the mission ends, however."""
     if not isinstance(scenario, Scenario):
         scenario = load(scenario)
     started = time.perf_counter()
     room = RoomMap(scenario)
-    world = SymbolicWorld(scenario, room, seed=settings.seed, rates=settings.rates)
+    world = make_world(scenario, room, settings)
+    try:
+        return _run(scenario, room, world, trace_path, settings, domain, on_event, started)
+    finally:
+        world.close()
+
+
+def make_world(scenario: Scenario, room: RoomMap, settings: Settings):
+    if settings.world == "pybullet":
+        from tidyplan.exec.bullet import BulletWorld  # pybullet loads only when asked for
+
+        return BulletWorld(scenario, room, seed=settings.seed, rates=settings.rates, gui=settings.gui)
+    if settings.world == "symbolic":
+        return SymbolicWorld(scenario, room, seed=settings.seed, rates=settings.rates)
+    raise ValueError(f"unknown world {settings.world!r}")
+
+
+def _run(scenario, room, world, trace_path, settings, domain, on_event, started) -> dict:
     belief = Belief(scenario, room)
 
     def planner(d, p, max_stratum):
@@ -90,6 +110,7 @@ def _summary(scenario, settings, world, belief, mission, outcome, started, trace
     return {
         "scenario": scenario.name,
         "strategy": settings.strategy,
+        "world": settings.world,
         "seed": settings.seed,
         "success": outcome.success and delivered == len(scenario.items),
         "reason": outcome.reason,
@@ -111,7 +132,7 @@ def _summary(scenario, settings, world, belief, mission, outcome, started, trace
     }
 
 
-def lost_objects(world: SymbolicWorld, belief: Belief) -> int:
+def lost_objects(world, belief: Belief) -> int:
     """Objects whose true place the belief does not hold: not tidied and not believed within
     20 cm of where they are (unseen, or believed elsewhere), or tidied without the belief knowing."""
     lost = 0

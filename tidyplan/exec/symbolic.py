@@ -89,7 +89,43 @@ class Odometer:
     track: list[Point] = field(default_factory=list)
 
 
-class SymbolicWorld:
+class WorldReferee:
+    """What every world shares: the referee's view of the truth and the clock's bookkeeping.
+    Subclasses hold ``scenario``, ``items`` (name -> TrueItem) and ``odometer``."""
+
+    scenario: Scenario
+    items: dict[str, TrueItem]
+    odometer: Odometer
+
+    def untidied(self) -> list[str]:
+        """Items not in a deposit of their category."""
+        cat = {d.name: d.category for d in self.scenario.deposits}
+        return sorted(
+            o.name
+            for o in self.items.values()
+            if o.state != "tidied" or cat.get(o.deposit or "") != o.category
+        )
+
+    def where(self, name: str) -> tuple[str, Point]:
+        o = self.items[name]
+        return o.state if o.state != "tidied" else f"tidied:{o.deposit}", (o.x, o.y)
+
+    def close(self) -> None:
+        """Release what the world holds (a physics server); nothing here."""
+
+    def _placed(self) -> list[TrueItem]:
+        return [o for o in self.items.values() if o.state == "placed"]
+
+    def _spend(self, seconds: float) -> Outcome:
+        self.odometer.sim_time_s += seconds
+        return Outcome(True, None, seconds)
+
+    def _fail(self, failure: str, seconds: float) -> Outcome:
+        self.odometer.sim_time_s += seconds
+        return Outcome(False, failure, seconds)
+
+
+class SymbolicWorld(WorldReferee):
     def __init__(self, scenario: Scenario, room: RoomMap, seed: int = 0, rates: Rates = Rates()) -> None:
         self.scenario = scenario
         self.room = room
@@ -236,24 +272,7 @@ class SymbolicWorld:
         out = self._spend(DROP_S)
         return Outcome(True, None, out.seconds, 0.0, spot)
 
-    # ------------------------------------------------------------------ the referee's view
-    def untidied(self) -> list[str]:
-        """Items not in a deposit of their category."""
-        cat = {d.name: d.category for d in self.scenario.deposits}
-        return sorted(
-            o.name
-            for o in self.items.values()
-            if o.state != "tidied" or cat.get(o.deposit or "") != o.category
-        )
-
-    def where(self, name: str) -> tuple[str, Point]:
-        o = self.items[name]
-        return o.state if o.state != "tidied" else f"tidied:{o.deposit}", (o.x, o.y)
-
     # ------------------------------------------------------------------ helpers
-    def _placed(self) -> list[TrueItem]:
-        return [o for o in self.items.values() if o.state == "placed"]
-
     def _base_z(self, o: TrueItem) -> float:
         return 0.0 if o.on == "floor" else self.scenario.furniture_named(o.on).height
 
@@ -274,14 +293,6 @@ class SymbolicWorld:
 
     def _stopped(self, failure: str, metres: float, seconds: float) -> Outcome:
         return Outcome(False, failure, seconds, metres)
-
-    def _spend(self, seconds: float) -> Outcome:
-        self.odometer.sim_time_s += seconds
-        return Outcome(True, None, seconds)
-
-    def _fail(self, failure: str, seconds: float) -> Outcome:
-        self.odometer.sim_time_s += seconds
-        return Outcome(False, failure, seconds)
 
     def _arrive(self, to: Point, metres: float, seconds: float) -> Outcome:
         self.robot = to

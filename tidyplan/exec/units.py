@@ -224,7 +224,8 @@ class AlignAtDeposit(Unit):
 
 
 class Place(Unit):
-    """Put the held item into the deposit and verify the hand let go (class B when it did not)."""
+    """Put the held item into the deposit and verify the hand let go (class B when it did not);
+    an item that left the hand but not into the deposit is class C, picked up again first."""
 
     name, phase, earlier = "place", "manipulation", "approach_deposit"
 
@@ -240,11 +241,21 @@ class Place(Unit):
         return None
 
     def do(self, monitor: StateMonitor):
-        out = self.ctx.world.place(self.deposit, self.approach)
-        if not out.ok or self.ctx.world.holds():
+        world, belief = self.ctx.world, self.ctx.belief
+        out = world.place(self.deposit, self.approach)
+        if out.failure == "place_missed" and not world.holds():
+            # let go, but it did not stay in the deposit (it tipped over the rim): the condition
+            # changed significantly, so pick it up again near the deposit, then place again
+            d = next(d for d in belief.scenario.deposits if d.name == self.deposit)
+            belief.fell(self.item, (d.x, d.y), FALL_SPREAD)
+            return Failure(C, "place_missed", f"{self.item} is not in {self.deposit}")
+        if not out.ok or world.holds():
             return Failure(B, out.failure or "place_fail")
-        self.ctx.belief.delivered(self.item, self.deposit)
+        belief.delivered(self.item, self.deposit)
         return None
+
+    def insert_for(self, failure: Failure) -> list[Unit]:
+        return pick_up(self.ctx, self.item) if failure.what == "place_missed" else []
 
 
 class PutDown(Unit):

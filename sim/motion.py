@@ -1,0 +1,50 @@
+"""Moving the HSR in the pybullet scene: collision checks for the kinematic base, and physics
+steps for what must really fall or settle.
+
+The base is moved kinematically along a path (as other pybullet HSR simulations do); before
+each step the base's own collision shape (a cylinder 430 mm across) is tested against the
+scene, so a path through an object on the floor, a piece of furniture or a wall stops short.
+Physics is stepped only when an object is let go or slips: it falls, tips and comes to rest.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+import pybullet as p
+
+from sim.robot import HSR
+
+TIME_STEP = 1.0 / 240.0  # pybullet's default step
+
+
+TOUCH = 0.005  # m of penetration below which a contact is a graze, not a collision
+
+
+def base_contacts(robot: HSR, ignore: Iterable[int] = ()) -> dict[int, float]:
+    """Bodies the base's collision shape penetrates, the floor and ``ignore`` aside: body ->
+    depth in metres (positive)."""
+    c = robot.client
+    (x0, y0, z0), (x1, y1, z1) = p.getAABB(robot.body, robot.base_link, physicsClientId=c)
+    near = p.getOverlappingObjects((x0, y0, z0 + 0.005), (x1, y1, z1), physicsClientId=c) or []
+    skip = set(ignore) | {robot.body}
+    out = {}
+    for body in sorted({b for b, _ in near} - skip):
+        points = p.getClosestPoints(robot.body, body, 0.0, linkIndexA=robot.base_link, physicsClientId=c)
+        depth = max((-q[8] for q in points), default=0.0)
+        if depth > 0.0:
+            out[body] = depth
+    return out
+
+
+def blocked(now: dict[int, float], before: dict[int, float]) -> list[int]:
+    """Bodies a step runs into: penetrated deeper than a graze, and deeper than before the motion
+    began (an object that fell against the base must not pin the robot where it stands)."""
+    return sorted(b for b, d in now.items() if d > TOUCH and d > before.get(b, 0.0) + TOUCH)
+
+
+def settle(robot: HSR, seconds: float) -> None:
+    """Step the physics for ``seconds`` with the robot holding its posture."""
+    robot.hold_still()
+    for _ in range(round(seconds / TIME_STEP)):
+        p.stepSimulation(physicsClientId=robot.client)

@@ -1,0 +1,227 @@
+"""The Toyota HSR in pybullet: a kinematic omnidirectional base, the arm, the head, the gripper.
+
+The model is ``sim/hsr.urdf``, written from the published figures in ../shared/HSR.md (the
+hsrb_description joint origins, limits and speeds; the ROBOMECH Journal 2019 description of
+the base). Motion is kinematic: a motion sets joint positions and returns how long the real
+robot needs for it at its joint speeds, and the caller advances the simulated clock by that.
+Physics is stepped by the caller only where it matters (an object falling, settling).
+
+Reaching uses pybullet's own inverse kinematics on the arm joints with the virtual base joints
+held where they are (nullspace limits lower = upper); the HSR's whole-body reach, which also
+slides the base, is left to the caller (``approach``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pybullet as p
+
+URDF = Path(__file__).resolve().parent / "hsr.urdf"
+
+BASE_RADIUS = 0.215  # m: 430 mm across (quoted, not confirmed; HSR.md)
+BASE_SPEED = 0.22  # m/s: 0.8 km/h, the design target (ROBOMECH 2019)
+YAW_SPEED = 0.75  # rad/s: the yaw rate seen in one configuration (not published)
+CAMERA_TILT = (
+    -0.35
+)  # rad: the head looks 20 degrees down while sweeping: floor 1 m to 3.5 m away and table tops in view
+GRIPPER_OPEN = 0.0675  # m per finger: 135 mm between the fingers
+# the arm folded with the hand low in front of the base: how the HSR carries an object
+CARRY = {
+    "arm_lift_joint": 0.05,
+    "arm_flex_joint": -1.9,
+    "arm_roll_joint": 0.0,
+    "wrist_flex_joint": -1.2,
+    "wrist_roll_joint": 0.0,
+}
+STOW = {
+    "arm_lift_joint": 0.0,
+    "arm_flex_joint": 0.0,
+    "arm_roll_joint": 0.0,
+    "wrist_flex_joint": -1.57,
+    "wrist_roll_joint": 0.0,
+}
+ARM = ("arm_lift_joint", "arm_flex_joint", "arm_roll_joint", "wrist_flex_joint", "wrist_roll_joint")
+HAND_DOWN = p.getQuaternionFromEuler(
+    (0.0, math.pi, 0.0)
+)  # the grasp frame's z (towards the fingertips) points down
+# Arm postures to start the IK from: pybullet's solver is local, and from the stowed arm (flex at
+# its limit) it stalls. Low and folded, half out, and raised: together they cover 0.3 to 0.65 m
+# in front of the base from the floor to 1 m up (measured: the hand within 1 cm).
+IK_SEEDS = (
+    {"arm_lift_joint": 0.1, "arm_flex_joint": -2.0, "wrist_flex_joint": -1.1},
+    {"arm_lift_joint": 0.3, "arm_flex_joint": -1.2, "wrist_flex_joint": -1.6},
+    {"arm_lift_joint": 0.5, "arm_flex_joint": -1.6, "wrist_flex_joint": 0.0},
+    {"arm_lift_joint": 0.69, "arm_flex_joint": -0.6, "wrist_flex_joint": -1.0},
+)
+REACHED = 0.02  # m: the hand this close to the target counts as there
+
+
+@dataclass(frozen=True, slots=True)
+class Joint:
+    index: int
+    name: str
+    kind: int
+    lower: float
+    upper: float
+    speed: float  # rad/s or m/s, the URDF's velocity limit
+
+
+class HSR:
+    """One HSR body in a pybullet client. Joint and link names are hsrb_description's."""
+
+    def __init__(self, client: int, x: float = 0.0, y: float = 0.0, yaw: float = 0.0) -> None:
+        self.client = client
+        self.body = p.loadURDF(str(URDF), useFixedBase=True, physicsClientId=client)
+        self.joints: dict[str, Joint] = {}
+        self.links: dict[str, int] = {}
+        for j in range(p.getNumJoints(self.body, physicsClientId=client)):
+            info = p.getJointInfo(self.body, j, physicsClientId=client)
+            name = info[1].decode()
+            self.joints[name] = Joint(j, name, info[2], info[8], info[9], info[11])
+            self.links[info[12].decode()] = j
+        self.base_link = self.links["base_link"]
+        self.grasp_link = self.links["hand_grasp_frame"]
+        self.camera_link = self.links["head_rgbd_sensor_link"]
+        self._movable = [j for j in self.joints.values() if j.kind != p.JOINT_FIXED]
+        self.set_joints(STOW)
+        self.set_gripper(GRIPPER_OPEN)
+        self.set_head(0.0, CAMERA_TILT)
+        self.set_base(x, y, yaw)
+
+    # ------------------------------------------------------------------ joints
+    def q(self, name: str) -> float:
+        return p.getJointState(self.body, self.joints[name].index, physicsClientId=self.client)[0]
+
+    def set_joints(self, values: dict[str, float]) -> float:
+        """Set joints (clamped to their limits); returns the seconds the real robot needs, all
+        joints moving at once at their top speeds. The torso follows the arm lift at half."""
+        seconds = 0.0
+        if "arm_lift_joint" in values:
+            values = {**values, "torso_lift_joint": 0.5 * values["arm_lift_joint"]}
+        for name, value in values.items():
+            j = self.joints[name]
+            if j.kind != p.JOINT_REVOLUTE or j.upper > j.lower:
+                value = min(max(value, j.lower), j.upper) if j.upper > j.lower else value
+            seconds = max(seconds, abs(value - self.q(name)) / j.speed)
+            p.resetJointState(self.body, j.index, value, physicsClientId=self.client)
+        return seconds
+
+    def hold_still(self) -> None:
+        """Before physics steps: motors hold every joint where it is (otherwise the arm sags)."""
+        idx = [j.index for j in self._movable]
+        now = [s[0] for s in p.getJointStates(self.body, idx, physicsClientId=self.client)]
+        p.setJointMotorControlArray(
+            self.body,
+            idx,
+            p.POSITION_CONTROL,
+            targetPositions=now,
+            forces=[500.0] * len(idx),
+            physicsClientId=self.client,
+        )
+
+    # ------------------------------------------------------------------ base
+    def set_base(self, x: float, y: float, yaw: float | None = None) -> None:
+        values = {"base_x_joint": x, "base_y_joint": y}
+        if yaw is not None:
+            values["base_yaw_joint"] = yaw
+        for name, v in values.items():
+            p.resetJointState(self.body, self.joints[name].index, v, physicsClientId=self.client)
+
+    def base(self) -> tuple[float, float, float]:
+        return self.q("base_x_joint"), self.q("base_y_joint"), self.q("base_yaw_joint")
+
+    def turn_to(self, x: float, y: float) -> float:
+        """Turn the base to face (x, y); returns the seconds it takes."""
+        bx, by, yaw = self.base()
+        want = math.atan2(y - by, x - bx)
+        turn = (want - yaw + math.pi) % (2 * math.pi) - math.pi
+        self.set_base(bx, by, yaw + turn)
+        return abs(turn) / YAW_SPEED
+
+    # ------------------------------------------------------------------ head and camera
+    def set_head(self, pan: float, tilt: float) -> float:
+        return self.set_joints({"head_pan_joint": pan, "head_tilt_joint": tilt})
+
+    def camera(self) -> tuple[tuple[float, float, float], tuple[float, ...], tuple[float, ...]]:
+        """The RGB-D lens: position, and its forward and up directions in the world."""
+        state = p.getLinkState(
+            self.body, self.camera_link, computeForwardKinematics=True, physicsClientId=self.client
+        )
+        pos, orn = state[4], state[5]
+        m = p.getMatrixFromQuaternion(orn)
+        forward = (m[0], m[3], m[6])  # the link's x axis
+        up = (m[2], m[5], m[8])  # its z axis
+        return pos, forward, up
+
+    def head_parts(self) -> tuple[int, tuple[int, ...]]:
+        """(body, links) of the head the camera looks out of."""
+        names = ("head_pan_link", "head_tilt_link", "head_rgbd_sensor_link")
+        return self.body, tuple(self.links[n] for n in names)
+
+    # ------------------------------------------------------------------ arm and hand
+    def hand(self) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
+        state = p.getLinkState(
+            self.body, self.grasp_link, computeForwardKinematics=True, physicsClientId=self.client
+        )
+        return state[4], state[5]
+
+    def reach(
+        self, target: tuple[float, float, float], orientation=HAND_DOWN, *, strict: bool = False
+    ) -> tuple[dict[str, float], float]:
+        """Arm joint values that bring the grasp frame to ``target`` (world), and how far from it
+        they leave the hand (m); the robot is left as it was. The hand in ``orientation`` (a
+        quaternion; pointing down, a top grasp, by default) is preferred; where that does not
+        reach, any orientation (unless ``strict``). The virtual base joints and the
+        head get a large damping, so the solver moves the arm only."""
+        movable = self._movable
+        saved = {j.name: self.q(j.name) for j in movable}
+        damping = [0.02 if j.name in ARM else 1000.0 for j in movable]
+        best: tuple[dict[str, float], float] = ({}, math.inf)
+        for wanted in (orientation,) if strict else (orientation, None):
+            for seed in IK_SEEDS:
+                self.set_joints(seed)
+                for _ in range(4):  # re-solve from the clamped solution: limits are soft in pybullet
+                    sol = p.calculateInverseKinematics(
+                        self.body,
+                        self.grasp_link,
+                        target,
+                        wanted,
+                        jointDamping=damping,
+                        currentPositions=[self.q(j.name) for j in movable],
+                        maxNumIterations=100,
+                        residualThreshold=1e-4,
+                        physicsClientId=self.client,
+                    )
+                    self.set_joints({j.name: v for j, v in zip(movable, sol, strict=True) if j.name in ARM})
+                    err = math.dist(self.hand()[0], target)
+                    if err < best[1]:
+                        best = ({n: self.q(n) for n in ARM}, err)
+                    if err < 0.005:
+                        break
+                if best[1] < 0.005:
+                    break
+            if best[1] < REACHED / 2:
+                break
+        for name, value in saved.items():
+            p.resetJointState(self.body, self.joints[name].index, value, physicsClientId=self.client)
+        return best
+
+    @staticmethod
+    def pointing(direction) -> tuple[float, float, float, float]:
+        """The hand orientation whose fingers (the grasp frame's z) point along ``direction``."""
+        d = np.asarray(direction, dtype=float)
+        d /= np.linalg.norm(d)
+        axis = np.cross((0.0, 0.0, 1.0), d)
+        s = float(np.linalg.norm(axis))
+        angle = math.atan2(s, float(d[2]))
+        if s < 1e-9:
+            return (0.0, 0.0, 0.0, 1.0) if d[2] > 0 else HAND_DOWN
+        return tuple(p.getQuaternionFromAxisAngle(axis / s, angle))
+
+    def set_gripper(self, opening: float) -> float:
+        """Each finger ``opening`` m from the centre; returns the seconds."""
+        return self.set_joints({"hand_l_finger_joint": opening, "hand_r_finger_joint": opening})

@@ -1,0 +1,154 @@
+"""The WRS tidy-up room in pybullet, built from a scenario file (``sim.scenario``).
+
+Walls (0.6 m, the WRS minimum, with a 1.2 m door at the entrance), furniture as solid boxes of
+the scenario's footprint and height, each deposit a tray with a low rim on the furniture it
+stands on, and the items: small boxes of 0.1 kg that physics can drop, tip and settle. Colours
+follow the item categories (the deposits share their category's colour). The robot is placed at
+the entrance facing the scenario's heading.
+
+What the robot's map needs from the scene, ``Room.footprints()``, is read back from pybullet
+(the bodies' bounding boxes), not copied from the file: the map is of the room that was built.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import pybullet as p
+
+from sim.grid import Box
+from sim.robot import HSR
+from sim.scenario import Scenario
+
+WALL_HEIGHT, WALL_THICKNESS, DOOR = 0.6, 0.10, 1.2
+TRAY, RIM = 0.30, 0.03  # m: inner side of a deposit tray (the 0.19 m WRS boxes fit), rim height
+ITEM_MASS = 0.1  # kg
+PALETTE = [(0.85, 0.33, 0.10), (0.00, 0.45, 0.74), (0.47, 0.67, 0.19), (0.49, 0.18, 0.56), (0.93, 0.69, 0.13)]
+FURNITURE_COLOUR = {"table": (0.60, 0.45, 0.30), "shelf": (0.55, 0.40, 0.28), "chair": (0.35, 0.35, 0.40)}
+
+
+@dataclass
+class Room:
+    client: int
+    scenario: Scenario
+    robot: HSR
+    furniture: dict[str, int] = field(default_factory=dict)
+    deposits: dict[str, int] = field(default_factory=dict)
+    items: dict[str, int] = field(default_factory=dict)
+    walls: list[int] = field(default_factory=list)
+    floor: int = -1
+
+    def footprints(self) -> list[Box]:
+        """The furniture's footprints as pybullet has them (axis-aligned bounding boxes)."""
+        out = []
+        for name, body in self.furniture.items():
+            (x0, y0, _), (x1, y1, _) = p.getAABB(body, physicsClientId=self.client)
+            out.append(
+                Box(
+                    round((x0 + x1) / 2, 4),
+                    round((y0 + y1) / 2, 4),
+                    round(x1 - x0, 4),
+                    round(y1 - y0, 4),
+                    name,
+                )
+            )
+        return out
+
+    def static_bodies(self) -> list[int]:
+        return self.walls + list(self.furniture.values()) + list(self.deposits.values())
+
+    def colour(self, category: str) -> tuple[float, float, float]:
+        return PALETTE[self.scenario.categories().index(category) % len(PALETTE)]
+
+
+def build(scenario: Scenario, client: int) -> Room:
+    """Every body of the scenario in ``client`` (an empty world), gravity on."""
+    p.setGravity(0, 0, -9.81, physicsClientId=client)
+    floor = _box(client, (0, 0, -0.05), (20, 20, 0.1), (0.9, 0.9, 0.88), mass=0)
+    x, y = scenario.entrance
+    robot = HSR(client, x, y, math.radians(scenario.heading_deg))
+    room = Room(client, scenario, robot, floor=floor)
+    room.walls = _walls(client, scenario)
+    for f in scenario.furniture:
+        colour = FURNITURE_COLOUR.get(f.kind, (0.7, 0.7, 0.68))
+        room.furniture[f.name] = _box(
+            client, (f.cx, f.cy, f.height / 2), (f.sx, f.sy, f.height), colour, mass=0
+        )
+    for d in scenario.deposits:
+        room.deposits[d.name] = _tray(client, (d.x, d.y, d.z), room.colour(d.category))
+    for i in scenario.items:
+        z = scenario.item_base_z(i) + i.sz / 2
+        room.items[i.name] = _box(
+            client, (i.x, i.y, z), (i.sx, i.sy, i.sz), room.colour(i.category), mass=ITEM_MASS
+        )
+    return room
+
+
+def _walls(client: int, s: Scenario) -> list[int]:
+    """Four walls just outside the bounds; a door of 1.2 m in the wall nearest the entrance."""
+    x0, x1, y0, y1 = s.bounds
+    ex, ey = s.entrance
+    t, h = WALL_THICKNESS, WALL_HEIGHT
+    sides = {  # name: (fixed coordinate, along from, along to, horizontal?)
+        "south": (y0 - t / 2, x0 - t, x1 + t, True),
+        "north": (y1 + t / 2, x0 - t, x1 + t, True),
+        "west": (x0 - t / 2, y0, y1, False),
+        "east": (x1 + t / 2, y0, y1, False),
+    }
+    gaps = {"south": abs(ey - y0), "north": abs(y1 - ey), "west": abs(ex - x0), "east": abs(x1 - ex)}
+    door = min(gaps, key=gaps.get)
+    bodies = []
+    for name, (fixed, a, b, horizontal) in sides.items():
+        pieces = [(a, b)]
+        if name == door:
+            centre = ex if horizontal else ey
+            lo, hi = max(a, centre - DOOR / 2), min(b, centre + DOOR / 2)
+            pieces = [(a, lo), (hi, b)]
+        for lo, hi in pieces:
+            if hi - lo < 1e-3:
+                continue
+            mid, length = (lo + hi) / 2, hi - lo
+            pos = (mid, fixed, h / 2) if horizontal else (fixed, mid, h / 2)
+            size = (length, t, h) if horizontal else (t, length, h)
+            bodies.append(_box(client, pos, size, (0.92, 0.92, 0.9), mass=0))
+    return bodies
+
+
+def _tray(client: int, at: tuple[float, float, float], colour) -> int:
+    """A square tray on the surface at ``at`` (x, y, top of the furniture): a base and four rims,
+    one body so that it is one deposit."""
+    x, y, z = at
+    half = TRAY / 2 + 0.01
+    parts = [((0, 0, 0.005), (half, half, 0.005))]
+    for dx, dy, hx, hy in (
+        (half, 0, 0.01, half),
+        (-half, 0, 0.01, half),
+        (0, half, half, 0.01),
+        (0, -half, half, 0.01),
+    ):
+        parts.append(((dx, dy, RIM / 2), (hx, hy, RIM / 2)))
+    shapes = [p.GEOM_BOX] * len(parts)
+    extents = [list(e) for _, e in parts]
+    offsets = [list(o) for o, _ in parts]
+    col = p.createCollisionShapeArray(
+        shapes, halfExtents=extents, collisionFramePositions=offsets, physicsClientId=client
+    )
+    vis = p.createVisualShapeArray(
+        shapes,
+        halfExtents=extents,
+        visualFramePositions=offsets,
+        rgbaColors=[[*colour, 1]] * len(parts),
+        physicsClientId=client,
+    )
+    return p.createMultiBody(0, col, vis, (x, y, z), physicsClientId=client)
+
+
+def _box(client: int, centre, size, colour, mass: float) -> int:
+    half = [s / 2 for s in size]
+    col = p.createCollisionShape(p.GEOM_BOX, halfExtents=half, physicsClientId=client)
+    vis = p.createVisualShape(p.GEOM_BOX, halfExtents=half, rgbaColor=[*colour, 1], physicsClientId=client)
+    body = p.createMultiBody(mass, col, vis, centre, physicsClientId=client)
+    if mass > 0:
+        p.changeDynamics(body, -1, lateralFriction=0.8, rollingFriction=0.001, physicsClientId=client)
+    return body
