@@ -37,10 +37,14 @@ from tidyplan.exec.symbolic import TAKE_TOLERANCE, Odometer, Outcome, Rates, Tru
 
 Point = tuple[float, float]
 
+AROUND, AROUND_LOOK = 0.3, 0.6  # m: a place this close is "around the robot"; looked at this far out
 RECOGNISE_S = 1.0  # s: object recognition on one camera frame (the symbolic world's locate)
 SETTLE_S = 1.0  # s of physics after a release
 STEP = 0.05  # m between collision checks along a path (the grid's cell)
 PANS = (1.75, 0.80, -0.15, -1.10, -2.05, -3.00, -3.84)  # head pan stops of a sweep: 58 deg frames overlap
+# two tilts per stop: 7 deg above to 60 deg below the horizon, the floor from 0.6 m out and table
+# tops across the room (one 45 deg frame cannot hold both)
+TILTS = (-0.65, -0.15)
 HAND_OPENING = 2 * GRIPPER_OPEN  # m: wider objects are taken with the suction pad on top (the HSR has one)
 ABOVE = 0.05  # m: the hand comes down onto an object from this far above it
 LEAN = (0.0, 0.05, 0.1)  # m the base may slide towards a place to put an object down upright
@@ -54,8 +58,8 @@ class BulletWorld(WorldReferee):
         scenario: Scenario,
         room: RoomMap,
         seed: int = 0,
-        rates: Rates = Rates(),
-        gui: bool = False,  # noqa: B008 - frozen
+        rates: Rates = Rates(),  # noqa: B008 - frozen, never mutated
+        gui: bool = False,
     ) -> None:
         self.scenario = scenario
         self.room = room
@@ -101,18 +105,22 @@ class BulletWorld(WorldReferee):
 
     # ------------------------------------------------------------------ sensing
     def look(self) -> list[Detection]:
-        """A head sweep: the camera pans across the head's range at its tilt; what any frame sees
+        """A head sweep: the camera pans across the head's range, two tilts a stop; what any frame sees
         is detected, each item missed at the false-negative rate; a phantom at the
         false-positive rate (a random category somewhere in view on the floor)."""
         pans = PANS if self._pan_forward else PANS[::-1]
         self._pan_forward = not self._pan_forward
-        seconds = self.hsr.set_head(pans[0], CAMERA_TILT)
+        tilts = TILTS
+        seconds = self.hsr.set_head(pans[0], tilts[0])
         targets = self._targets()
         seen: set[str] = set()
-        for pan in pans:
-            seconds += self.hsr.set_head(pan, CAMERA_TILT)
-            eye, forward, up = self.hsr.camera()
-            seen |= self.camera.seen(self.client, eye, forward, up, targets, self.hsr.head_parts())
+        for pan in pans:  # at each stop a frame at both tilts, the nearer one first
+            for tilt in tilts:
+                seconds += self.hsr.set_head(pan, tilt)
+                eye, forward, up = self.hsr.camera()
+                seen |= self.camera.seen(self.client, eye, forward, up, targets, self.hsr.head_parts())
+            tilts = tilts[::-1]
+        self.hsr.set_head(pans[-1], CAMERA_TILT)
         self._spend(seconds)
         out = []
         for it in sorted(self._placed(), key=lambda t: t.name):
@@ -135,6 +143,8 @@ class BulletWorld(WorldReferee):
             for o in self._placed()
             if math.dist((o.x, o.y), near) <= radius and (category is None or o.category == category)
         }
+        if math.dist(near, self.robot) < AROUND:
+            return self._locate_around(near, candidates)
         surface = self._surface_z(near)
         seconds = self.hsr.turn_to(*near)  # face it: the head pans too little behind the robot
         seen, spent = self._look_at(near, surface, candidates)
@@ -155,6 +165,27 @@ class BulletWorld(WorldReferee):
                     seconds += spent
                 self._place_base(start)
             seconds += self.hsr.set_joints({"arm_lift_joint": lift})
+        seconds += self.hsr.set_head(0.0, CAMERA_TILT)
+        self._spend(seconds)
+        if self.rng.random() < self.fn or not seen:
+            return None
+        o = min((self.items[n] for n in seen), key=lambda o: (math.dist((o.x, o.y), near), o.name))
+        return Detection(o.category, round(o.x, 3), round(o.y, 3), o.on, o.sx, o.sy, o.sz)
+
+    def _locate_around(self, near: Point, candidates) -> Detection | None:
+        """``near`` is where the robot stands (an object slipped out of the hand here): look at
+        the floor 0.6 m out to the front, then either side, then behind, until something is seen."""
+        seconds = 0.0
+        seen: set[str] = set()
+        _, _, yaw = self.hsr.base()
+        for turn in (0.0, math.pi / 2, -math.pi / 2, math.pi):
+            a = yaw + turn
+            spot = (near[0] + AROUND_LOOK * math.cos(a), near[1] + AROUND_LOOK * math.sin(a))
+            seconds += self.hsr.turn_to(*spot)
+            seen, spent = self._look_at(spot, self._surface_z(spot), candidates)
+            seconds += spent
+            if seen:
+                break
         seconds += self.hsr.set_head(0.0, CAMERA_TILT)
         self._spend(seconds)
         if self.rng.random() < self.fn or not seen:
