@@ -33,7 +33,9 @@ def main() -> int:
     ratios = []
     for seed in range(args.first_seed, args.first_seed + args.seeds):
         trace = out / f"speed-s{seed}.jsonl"
-        settings = Settings("ofsm", seed, planner=args.planner, time_budget=args.time_budget, world="pybullet")
+        settings = Settings(
+            "ofsm", seed, planner=args.planner, time_budget=args.time_budget, world="pybullet"
+        )
         s = run(args.scenario, trace, settings)
         planning = sum(
             e.get("planning_time_s", 0.0)

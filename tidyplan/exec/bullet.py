@@ -45,7 +45,6 @@ PANS = (1.75, 0.80, -0.15, -1.10, -2.05, -3.00, -3.84)  # head pan stops of a sw
 # two tilts per stop: 7 deg above to 60 deg below the horizon, the floor from 0.6 m out and table
 # tops across the room (one 45 deg frame cannot hold both)
 TILTS = (-0.65, -0.15)
-HAND_OPENING = 2 * GRIPPER_OPEN  # m: wider objects are taken with the suction pad on top (the HSR has one)
 ABOVE = 0.05  # m: the hand comes down onto an object from this far above it
 LEAN = (0.0, 0.05, 0.1)  # m the base may slide towards a place to put an object down upright
 
@@ -82,6 +81,7 @@ class BulletWorld(WorldReferee):
         self.holding: str | None = None
         self._grip: int | None = None  # the grasp constraint
         self._grip_offset = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+        self._last_released: str | None = None  # the object the last release let go of
         self._held_as = (
             (0.0, 0.0, 0.0, 1.0),
             0.0,
