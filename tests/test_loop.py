@@ -15,7 +15,8 @@ import pytest
 
 from sim.scenario_file import loads
 from tidyplan.exec.bindings import MonitoredExecutor
-from tidyplan.exec.symbolic import Outcome, Rates, SymbolicWorld
+from tidyplan.exec.symbolic import SymbolicWorld
+from tidyplan.exec.world import Outcome, Rates
 from tidyplan.mission import Settings, run
 
 # A toy in the far corner behind a crate as tall as a table: no look finds it and no grasp

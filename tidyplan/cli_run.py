@@ -13,7 +13,7 @@ from pathlib import Path
 from sim.scenario import ScenarioError
 from sim.scenario_file import load
 from tidyplan.errors import Diagnostic, InputError
-from tidyplan.exec.symbolic import Rates
+from tidyplan.exec.world import Rates
 from tidyplan.monitor.loop import STRATEGIES
 
 DEFAULT_SCENARIO = "problems/case3.toml"

@@ -44,6 +44,11 @@ class Step:
     probability: float
     cost: float
 
+    @property
+    def text(self) -> str:
+        """The step as the trace writes it: ``(name arg ...)``."""
+        return "(" + " ".join((self.name, *self.args)) + ")"
+
     def to_json(self) -> dict:
         return {
             "name": self.name,

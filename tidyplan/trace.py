@@ -14,6 +14,10 @@ import time
 from pathlib import Path
 from typing import Any
 
+from tidyplan.pddl import model as m
+from tidyplan.pddl.compile import compile_task
+from tidyplan.pddl.writer import domain_text, problem_text
+
 SCHEMA_VERSION = 1
 
 
@@ -59,6 +63,18 @@ class TraceWriter:
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_text(text, encoding="utf-8")
         return os.path.relpath(target, self.path.parent)
+
+    def save_replan(self, base: str, text: str, domain: m.Domain, problem: m.Problem) -> dict[str, str]:
+        """The files of one plan: the dialect problem ``text`` as ``base.pddl``, and the plain
+        PDDL the compiler makes of it in ``base/``; returns the ``plan`` event's path fields."""
+        out = {"problem": self.save(f"{base}.pddl", text)}
+        try:
+            task = compile_task(domain, problem)
+            out["plain_domain"] = self.save(f"{base}/domain.pddl", domain_text(task.domain))
+            out["plain_problem"] = self.save(f"{base}/problem.pddl", problem_text(task.problem))
+        except Exception as err:  # noqa: BLE001 - a plain copy is a convenience; the plan goes on
+            out["plain_error"] = str(err)
+        return out
 
     def close(self) -> None:
         if not self._file.closed:

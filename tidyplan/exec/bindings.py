@@ -56,7 +56,7 @@ class MonitoredExecutor:
 
     def execute(self, step: Step, snapshot: Snapshot, belief: Belief, observe) -> Report:
         ctx = Context(self.world, belief, observe)
-        text = "(" + " ".join((step.name, *step.args)) + ")"
+        text = step.text
         clock = self.world.odometer
         t0, d0 = clock.sim_time_s, clock.distance_m
 

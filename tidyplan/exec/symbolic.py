@@ -23,15 +23,13 @@ a drop 8 s (arm motions of a few seconds each, plus perception, as on the real H
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-
-import numpy as np
 
 from sim.grid import Box
 from sim.scenario import Scenario
 from sim.visibility import Box3, visible
 from tidyplan.belief import Detection
 from tidyplan.exec.geometry import GRASP_MAX, RoomMap, free_spots
+from tidyplan.exec.world import Odometer, Outcome, Rates, TrueItem, WorldReferee
 
 Point = tuple[float, float]
 
@@ -40,105 +38,16 @@ TAKE_TOLERANCE = 0.15  # m: the gripper closes on an item this close to where it
 CLOSE_RANGE = 1.2  # m: what a close-range look (head down, hand camera) sees around the robot
 
 
-@dataclass(frozen=True, slots=True)
-class Rates:
-    """Success rates of the manipulation actions and the camera's error rates.
-
-    Defaults: the domain's probabilities (take 0.95, deliver 0.98, drop 0.98) and Goebelbecker's
-    false negative 0.2 and false positive 0.05 (the scenario's [sensing] may set its own); no
-    drops in transit and no transient obstacles unless asked for (``--faults``)."""
-
-    take: float = 0.95
-    deliver: float = 0.98
-    drop: float = 0.98
-    false_negative: float | None = None  # None: the scenario's
-    false_positive: float | None = None
-    grasp_drop: float = 0.0  # per carrying motion: the item falls near the robot
-    path_blocked: float = 0.0  # per motion: a transient obstacle stops the robot on its way
-
-
-@dataclass(slots=True)
-class TrueItem:
-    name: str
-    category: str
-    x: float
-    y: float
-    on: str
-    sx: float
-    sy: float
-    sz: float
-    state: str = "placed"  # placed, held, tidied
-    deposit: str | None = None
-
-
-@dataclass(frozen=True, slots=True)
-class Outcome:
-    """What the world says about one action: success, or a named failure, and its cost."""
-
-    ok: bool
-    failure: str | None = None
-    seconds: float = 0.0
-    metres: float = 0.0
-    at: Point | None = None  # where an item was put down (drop)
-
-
-@dataclass(slots=True)
-class Odometer:
-    sim_time_s: float = 0.0
-    distance_m: float = 0.0
-    track: list[Point] = field(default_factory=list)
-
-
-class WorldReferee:
-    """What every world shares: the referee's view of the truth and the clock's bookkeeping.
-    Subclasses hold ``scenario``, ``items`` (name -> TrueItem) and ``odometer``."""
-
-    scenario: Scenario
-    items: dict[str, TrueItem]
-    odometer: Odometer
-
-    def untidied(self) -> list[str]:
-        """Items not in a deposit of their category."""
-        cat = {d.name: d.category for d in self.scenario.deposits}
-        return sorted(
-            o.name
-            for o in self.items.values()
-            if o.state != "tidied" or cat.get(o.deposit or "") != o.category
-        )
-
-    def where(self, name: str) -> tuple[str, Point]:
-        o = self.items[name]
-        return o.state if o.state != "tidied" else f"tidied:{o.deposit}", (o.x, o.y)
-
-    def close(self) -> None:
-        """Release what the world holds (a physics server); nothing here."""
-
-    def _placed(self) -> list[TrueItem]:
-        return [o for o in self.items.values() if o.state == "placed"]
-
-    def _spend(self, seconds: float) -> Outcome:
-        self.odometer.sim_time_s += seconds
-        return Outcome(True, None, seconds)
-
-    def _fail(self, failure: str, seconds: float) -> Outcome:
-        self.odometer.sim_time_s += seconds
-        return Outcome(False, failure, seconds)
-
-
 class SymbolicWorld(WorldReferee):
-    def __init__(self, scenario: Scenario, room: RoomMap, seed: int = 0, rates: Rates = Rates()) -> None:
-        self.scenario = scenario
-        self.room = room
-        self.rng = np.random.default_rng(seed)
-        s = scenario.sensing
-        self.fn = s.false_negative if rates.false_negative is None else rates.false_negative
-        self.fp = s.false_positive if rates.false_positive is None else rates.false_positive
-        self.rates = rates
-        self.items = {
-            i.name: TrueItem(i.name, i.category, i.x, i.y, i.on, i.sx, i.sy, i.sz) for i in scenario.items
-        }
+    def __init__(
+        self,
+        scenario: Scenario,
+        room: RoomMap,
+        seed: int = 0,
+        rates: Rates = Rates(),  # noqa: B008 - frozen, never mutated
+    ) -> None:
+        super().__init__(scenario, room, seed, rates)
         self.robot: Point = room.entrance
-        self.holding: str | None = None
         self.odometer = Odometer(track=[self.robot])
         self._furniture = [Box3.from_furniture(f) for f in scenario.furniture]
 
@@ -158,16 +67,7 @@ class SymbolicWorld(WorldReferee):
             miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
             if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max) and not miss:
                 out.append(Detection(it.category, it.x, it.y, it.on, it.sx, it.sy, it.sz))
-        if self.rng.random() < self.fp:
-            angle = self.rng.uniform(0, 2 * math.pi)
-            dist = self.rng.uniform(s.range_min, min(s.range_max, 2.0))
-            x, y = self.robot[0] + dist * math.cos(angle), self.robot[1] + dist * math.sin(angle)
-            cats = sorted({i.category for i in self.items.values()})
-            cat = cats[int(self.rng.integers(0, len(cats)))]
-            x0, x1, y0, y1 = self.scenario.bounds
-            if x0 < x < x1 and y0 < y < y1:
-                out.append(Detection(cat, round(x, 3), round(y, 3), "floor"))
-        return out
+        return out + self._phantom()
 
     def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None:
         """Close-range look (head tilted down, the hand camera): the placed item nearest ``near``
@@ -204,13 +104,7 @@ class SymbolicWorld(WorldReferee):
         the hand falls on the way at the ``grasp_drop`` rate."""
         speed = self.scenario.robot.speed / (2 if careful else 1)
         n = len(path)
-        blocked_u, drop_u = self.rng.random(), self.rng.random()
-        block_at = int(self.rng.integers(1, n)) if n > 1 and blocked_u < self.rates.path_blocked else None
-        drop_at = (
-            int(self.rng.integers(1, n))
-            if n > 1 and self.holding and drop_u < self.rates.grasp_drop
-            else None
-        )
+        block_at, drop_at = self._faults_on_path(n)
         floor = [self._box(o) for o in self._placed() if o.on == "floor"]
         bare = self.room.grid(floor, bare=True)
         metres = seconds = 0.0

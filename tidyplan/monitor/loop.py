@@ -28,10 +28,8 @@ from tidyplan.errors import PlannerError
 from tidyplan.monitor.triggers import Cause
 from tidyplan.pddl import model as m
 from tidyplan.pddl.check import check_problem
-from tidyplan.pddl.compile import compile_task
 from tidyplan.pddl.reader import parse, read_domain, read_text
 from tidyplan.pddl.simulate import Simulator
-from tidyplan.pddl.writer import domain_text, problem_text
 from tidyplan.planner import PlanResult, Status, Step
 from tidyplan.problem import Snapshot, write
 from tidyplan.strata import transition
@@ -112,7 +110,7 @@ class Mission:
         while self.steps and self.steps[0].assumption:
             step = self.steps.pop(0)
             self.pending.append(step)
-            self.trace.emit("assume", action=_text(step), probability=step.probability)
+            self.trace.emit("assume", action=step.text, probability=step.probability)
         if not self.steps:
             return self._finished()
         if self.count.actions >= self.config.max_actions:
@@ -125,7 +123,7 @@ class Mission:
         self._count(step, report)
         self.trace.emit(
             "action",
-            action=_text(step),
+            action=step.text,
             stratum=step.stratum,
             ok=report.ok,
             failure=report.failure,
@@ -145,7 +143,7 @@ class Mission:
         if contradicted:
             return self._replan(Cause.ASSUMPTION, contradicted)
         if report.recovery_exhausted:
-            return self._replan(Cause.RECOVERY, f"{_text(step)}: {report.failure}")
+            return self._replan(Cause.RECOVERY, f"{step.text}: {report.failure}")
         if unbound:
             return self._replan(Cause.NEW_OBJECT, " ".join(unbound))
         if not self.steps:
@@ -154,15 +152,13 @@ class Mission:
         end, broken = self.sim.run(state, ((s.name, s.args) for s in self.steps))
         done = {k.name for k in self.belief.items.values() if k.state == "tidied"}
         if broken == 0:  # (i): the very next action cannot run
-            why = f"{_text(self.steps[0])} not applicable"
+            why = f"{self.steps[0].text} not applicable"
             if not report.ok:
-                why += f" after {_text(step)} failed ({report.failure})"
+                why += f" after {step.text} failed ({report.failure})"
             return self._replan(Cause.PRECONDITION, why)
         if broken is not None or not all(("tidied", g) in end or g in done for g in self.goal):
             why = (
-                f"step {broken} {_text(self.steps[broken])} fails"
-                if broken is not None
-                else "goal not reached"
+                f"step {broken} {self.steps[broken].text} fails" if broken is not None else "goal not reached"
             )
             return self._replan(Cause.PLAN_INVALID, why)
         if new or not report.ok or report.recoveries:
@@ -253,7 +249,8 @@ class Mission:
         result = self.planner(self.domain, problem, self.max_stratum)
         seconds = time.perf_counter() - t0
         self.count.plan_times.append(seconds)
-        paths = self._save(n, label, snap, problem)
+        base = f"replan-{n:03d}" + ("" if label == "all" else f"-{label}")
+        paths = {"domain": self._plain, **self.trace.save_replan(base, snap.text, self.domain, problem)}
         previous = self.stratum
         self.trace.emit(
             "plan",
@@ -268,7 +265,7 @@ class Mission:
             transition=transition(previous, result.stratum) if result.stratum else None,
             cost=result.score.cost if result.score else None,
             probability=round(result.score.probability, 6) if result.score else None,
-            plan=[_text(s) for s in result.steps],
+            plan=[s.text for s in result.steps],
             assumptions=sum(s.assumption for s in result.steps),
             message=result.message,
             **paths,
@@ -293,17 +290,6 @@ class Mission:
         self.stratum = result.stratum
         self.sim = Simulator(self.domain, problem)
         self.goal = list(snap.goal)  # item names; renamed as virtual objects are bound
-
-    def _save(self, n: int, label: str, snap: Snapshot, problem: m.Problem) -> dict:
-        base = f"replan-{n:03d}" + ("" if label == "all" else f"-{label}")
-        out = {"domain": self._plain, "problem": self.trace.save(f"{base}.pddl", snap.text)}
-        try:
-            task = compile_task(self.domain, problem)
-            out["plain_domain"] = self.trace.save(f"{base}/domain.pddl", domain_text(task.domain))
-            out["plain_problem"] = self.trace.save(f"{base}/problem.pddl", problem_text(task.problem))
-        except Exception as err:  # noqa: BLE001 - a plain copy is a convenience; the plan goes on
-            out["plain_error"] = str(err)
-        return out
 
     # ------------------------------------------------------------------ monitoring
     def _belief_state(self):
@@ -373,9 +359,9 @@ class Mission:
             else:
                 continue
             self.pending.remove(a)
-            self.trace.emit("assumption", action=_text(a), holds=ok)
+            self.trace.emit("assumption", action=a.text, holds=ok)
             if not ok:
-                return f"{_text(a)}: " + (
+                return f"{a.text}: " + (
                     f"{item} is at {facts.grasp.get(item)}" if known else f"not seen from {w}"
                 )
         return None
@@ -405,10 +391,6 @@ class Mission:
 
 def _rename(step: Step, old: str, new: str) -> Step:
     return replace(step, args=tuple(new if a == old else a for a in step.args))
-
-
-def _text(step: Step) -> str:
-    return "(" + " ".join((step.name, *step.args)) + ")"
 
 
 def _r(x: float) -> float:

@@ -1,0 +1,142 @@
+"""What the symbolic and the pybullet world share: fault rates, the hidden truth of each item,
+what an action's outcome is, the odometer, and the referee's view (``WorldReferee``).
+
+The behaviour units (``tidyplan.exec.units``) reach a world only through its skills; a world
+keeps the truth the robot must not see, draws every fault from one seeded generator in a fixed
+order, and answers the referee's questions (what is untidied, where an item really is).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sim.scenario import Scenario
+from tidyplan.belief import Detection
+from tidyplan.exec.geometry import RoomMap
+
+Point = tuple[float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class Rates:
+    """Success rates of the manipulation actions and the camera's error rates.
+
+    Defaults: the domain's probabilities (take 0.95, deliver 0.98, drop 0.98) and Goebelbecker's
+    false negative 0.2 and false positive 0.05 (the scenario's [sensing] may set its own); no
+    drops in transit and no transient obstacles unless asked for (``--faults``)."""
+
+    take: float = 0.95
+    deliver: float = 0.98
+    drop: float = 0.98
+    false_negative: float | None = None  # None: the scenario's
+    false_positive: float | None = None
+    grasp_drop: float = 0.0  # per carrying motion: the item falls near the robot
+    path_blocked: float = 0.0  # per motion: a transient obstacle stops the robot on its way
+
+
+@dataclass(slots=True)
+class TrueItem:
+    name: str
+    category: str
+    x: float
+    y: float
+    on: str
+    sx: float
+    sy: float
+    sz: float
+    state: str = "placed"  # placed, held, tidied
+    deposit: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Outcome:
+    """What the world says about one action: success, or a named failure, and its cost."""
+
+    ok: bool
+    failure: str | None = None
+    seconds: float = 0.0
+    metres: float = 0.0
+    at: Point | None = None  # where an item was put down (drop)
+
+
+@dataclass(slots=True)
+class Odometer:
+    sim_time_s: float = 0.0
+    distance_m: float = 0.0
+    track: list[Point] = field(default_factory=list)
+
+
+class WorldReferee:
+    """What every world shares: the hidden truth (``items``), the seeded generator every fault
+    is drawn from, the referee's view of the truth, and the clock's bookkeeping. Subclasses set
+    ``robot`` and ``odometer``."""
+
+    robot: Point
+    odometer: Odometer
+
+    def __init__(self, scenario: Scenario, room: RoomMap, seed: int, rates: Rates) -> None:
+        self.scenario = scenario
+        self.room = room
+        self.rng = np.random.default_rng(seed)
+        s = scenario.sensing
+        self.fn = s.false_negative if rates.false_negative is None else rates.false_negative
+        self.fp = s.false_positive if rates.false_positive is None else rates.false_positive
+        self.rates = rates
+        self.items = {
+            i.name: TrueItem(i.name, i.category, i.x, i.y, i.on, i.sx, i.sy, i.sz) for i in scenario.items
+        }
+        self.holding: str | None = None
+
+    def untidied(self) -> list[str]:
+        """Items not in a deposit of their category."""
+        cat = {d.name: d.category for d in self.scenario.deposits}
+        return sorted(
+            o.name
+            for o in self.items.values()
+            if o.state != "tidied" or cat.get(o.deposit or "") != o.category
+        )
+
+    def where(self, name: str) -> tuple[str, Point]:
+        o = self.items[name]
+        return o.state if o.state != "tidied" else f"tidied:{o.deposit}", (o.x, o.y)
+
+    def close(self) -> None:
+        """Release what the world holds (a physics server); nothing here."""
+
+    def _faults_on_path(self, n: int) -> tuple[int | None, int | None]:
+        """For a motion along ``n`` path points: the segment a transient obstacle stops it at
+        (``path_blocked``) and the one the held item slips out on (``grasp_drop``), or None.
+        Both numbers are drawn every time, so a seed fixes the run whatever happens."""
+        blocked_u, drop_u = self.rng.random(), self.rng.random()
+        block_at = int(self.rng.integers(1, n)) if n > 1 and blocked_u < self.rates.path_blocked else None
+        carrying = n > 1 and self.holding is not None
+        drop_at = int(self.rng.integers(1, n)) if carrying and drop_u < self.rates.grasp_drop else None
+        return block_at, drop_at
+
+    def _phantom(self) -> list[Detection]:
+        """At the false-positive rate, a detection of nothing: a random category somewhere in
+        view on the floor (none when that place is outside the room)."""
+        if self.rng.random() >= self.fp:
+            return []
+        s = self.scenario.sensing
+        angle = self.rng.uniform(0, 2 * math.pi)
+        dist = self.rng.uniform(s.range_min, min(s.range_max, 2.0))
+        x, y = self.robot[0] + dist * math.cos(angle), self.robot[1] + dist * math.sin(angle)
+        cats = sorted({i.category for i in self.items.values()})
+        cat = cats[int(self.rng.integers(0, len(cats)))]
+        x0, x1, y0, y1 = self.scenario.bounds
+        return [Detection(cat, round(x, 3), round(y, 3), "floor")] if x0 < x < x1 and y0 < y < y1 else []
+
+    def _placed(self) -> list[TrueItem]:
+        return [o for o in self.items.values() if o.state == "placed"]
+
+    def _spend(self, seconds: float) -> Outcome:
+        self.odometer.sim_time_s += seconds
+        return Outcome(True, None, seconds)
+
+    def _fail(self, failure: str, seconds: float) -> Outcome:
+        self.odometer.sim_time_s += seconds
+        return Outcome(False, failure, seconds)
