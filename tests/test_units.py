@@ -83,3 +83,29 @@ def test_a_drop_in_transit_is_picked_up_by_an_inserted_unit_and_the_drive_resume
     ]
     action = next(e for e in events if e["kind"] == "action" and e["recoveries"])
     assert action["ok"] and action["action"].startswith("(move") and not action["recovery_exhausted"]
+
+
+def test_an_item_forgotten_by_a_later_look_of_the_same_action_is_not_reported_new():
+    """An action looks more than once (a unit's check, the closing look): a phantom first seen by
+    one look and forgotten by the next is not among the action's new items, so the loop never
+    tries to bind or plan for an item the belief no longer holds."""
+    from tidyplan.belief import Belief, Detection
+    from tidyplan.exec.units import Context
+
+    scenario = _scenario("phantom", [("t1", 1.8, 1.0)])
+    room = RoomMap(scenario)
+    belief = Belief(scenario, room)
+    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
+    looks = iter([[Detection("toy", 0.9, 1.6, "floor")], []])
+
+    def observe(_detections, waypoint):
+        update = belief.observe(next(looks), waypoint)
+        return update.new
+
+    ctx = Context(world, belief, observe)
+    ctx.look()
+    assert len(ctx.new) == 1
+    phantom = ctx.new[0]
+    belief.forget(phantom)  # what the next looks do to a detection they do not confirm
+    ctx.look()
+    assert phantom not in belief.items and ctx.new == []

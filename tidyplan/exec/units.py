@@ -42,7 +42,9 @@ class Context:
     new: list[str] = field(default_factory=list)
 
     def look(self, waypoint: str | None = None) -> None:
-        self.new += self.observe(self.world.look(), waypoint)
+        # an item first seen by an earlier look of this action may be forgotten by this one (a
+        # false detection the next looks did not confirm): it is no longer new
+        self.new = [n for n in self.new + self.observe(self.world.look(), waypoint) if n in self.belief.items]
 
     def floor(self, without: str | None = None):
         return [p.box() for p in self.belief.placed() if p.on == "floor" and p.name != without]

@@ -321,9 +321,7 @@ class Mission:
         the plan could use (an item of a category the room should hold)."""
         unbound = []
         planned = {a for s in self.steps + self.pending for a in s.args}
-        # an item seen early in an action may be forgotten by a later look of the same action
-        # (a false detection that three looks did not confirm): nothing to bind
-        for name in (n for n in new if n in self.belief.items):
+        for name in new:
             cat = self.belief.items[name].category
             match = [
                 v
