@@ -17,13 +17,10 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 import pybullet as p
 
 URDF = Path(__file__).resolve().parent / "hsr.urdf"
 
-BASE_RADIUS = 0.215  # m: 430 mm across (quoted, not confirmed; HSR.md)
-BASE_SPEED = 0.22  # m/s: 0.8 km/h, the design target (ROBOMECH 2019)
 YAW_SPEED = 0.75  # rad/s: the yaw rate seen in one configuration (not published)
 CAMERA_TILT = (
     -0.35
@@ -209,18 +206,6 @@ class HSR:
         for name, value in saved.items():
             p.resetJointState(self.body, self.joints[name].index, value, physicsClientId=self.client)
         return best
-
-    @staticmethod
-    def pointing(direction) -> tuple[float, float, float, float]:
-        """The hand orientation whose fingers (the grasp frame's z) point along ``direction``."""
-        d = np.asarray(direction, dtype=float)
-        d /= np.linalg.norm(d)
-        axis = np.cross((0.0, 0.0, 1.0), d)
-        s = float(np.linalg.norm(axis))
-        angle = math.atan2(s, float(d[2]))
-        if s < 1e-9:
-            return (0.0, 0.0, 0.0, 1.0) if d[2] > 0 else HAND_DOWN
-        return tuple(p.getQuaternionFromAxisAngle(axis / s, angle))
 
     def set_gripper(self, opening: float) -> float:
         """Each finger ``opening`` m from the centre; returns the seconds."""

@@ -6,18 +6,17 @@ stands on, and the items: small boxes of 0.1 kg that physics can drop, tip and s
 follow the item categories (the deposits share their category's colour). The robot is placed at
 the entrance facing the scenario's heading.
 
-What the robot's map needs from the scene, ``Room.footprints()``, is read back from pybullet
+What the robot's map needs from the scene, ``Room.as_built()``, is read back from pybullet
 (the bodies' bounding boxes), not copied from the file: the map is of the room that was built.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import pybullet as p
 
-from sim.grid import Box
 from sim.robot import HSR
 from sim.scenario import Scenario
 
@@ -39,24 +38,15 @@ class Room:
     walls: list[int] = field(default_factory=list)
     floor: int = -1
 
-    def footprints(self) -> list[Box]:
-        """The furniture's footprints as pybullet has them (axis-aligned bounding boxes)."""
+    def as_built(self) -> Scenario:
+        """The scenario with its furniture as pybullet has it (each body's bounding box: centre,
+        footprint, height): the robot's map is made of the room that was built."""
         out = []
-        for name, body in self.furniture.items():
-            (x0, y0, _), (x1, y1, _) = p.getAABB(body, physicsClientId=self.client)
-            out.append(
-                Box(
-                    round((x0 + x1) / 2, 4),
-                    round((y0 + y1) / 2, 4),
-                    round(x1 - x0, 4),
-                    round(y1 - y0, 4),
-                    name,
-                )
-            )
-        return out
-
-    def static_bodies(self) -> list[int]:
-        return self.walls + list(self.furniture.values()) + list(self.deposits.values())
+        for f in self.scenario.furniture:
+            (x0, y0, _), (x1, y1, z1) = p.getAABB(self.furniture[f.name], physicsClientId=self.client)
+            box = {"cx": (x0 + x1) / 2, "cy": (y0 + y1) / 2, "sx": x1 - x0, "sy": y1 - y0, "height": z1}
+            out.append(replace(f, **{k: round(v, 4) for k, v in box.items()}))
+        return replace(self.scenario, furniture=tuple(out))
 
     def colour(self, category: str) -> tuple[float, float, float]:
         return PALETTE[self.scenario.categories().index(category) % len(PALETTE)]

@@ -320,3 +320,17 @@ def test_a_small_room_is_tidied_end_to_end_in_pybullet(tmp_path):
         "car": "tidied:tray",
         "cup": "tidied:rack",
     }, times
+
+
+def test_the_robots_map_is_read_from_the_built_scene(world):
+    """The occupancy grid's furniture comes from the pybullet bodies (their bounding boxes), and
+    matches the scenario it was built from."""
+    w = world(loads(HIDE))
+    built = w.scene.as_built()
+    assert [f.name for f in built.furniture] == ["tall-box"]
+    (f,) = built.furniture
+    assert (f.cx, f.cy, f.sx, f.sy, f.height) == (2.4, 2.0, 0.3, 0.6, 1.5)
+    p.resetBasePositionAndOrientation(
+        w.scene.furniture["tall-box"], (2.0, 2.0, 0.75), (0, 0, 0, 1), physicsClientId=w.client
+    )
+    assert w.scene.as_built().furniture[0].cx == 2.0  # read from the scene, not the file

@@ -63,6 +63,8 @@ def run(
     started = time.perf_counter()
     room = RoomMap(scenario)
     world = make_world(scenario, room, settings)
+    if settings.world == "pybullet":  # the robot's map of the furniture, read from the built scene
+        room = world.room = RoomMap(world.scene.as_built())
     try:
         return _run(scenario, room, world, trace_path, settings, domain, on_event, started)
     finally:

@@ -83,12 +83,6 @@ class BulletWorld(HeadCamera, WorldReferee):
         if p.isConnected(self.client):
             p.disconnect(self.client)
 
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
-
     def holds(self) -> bool:
         """The gripper's sensor: is something in the hand?"""
         return self.holding is not None
