@@ -34,6 +34,15 @@ CARRY = {
     "wrist_flex_joint": -1.2,
     "wrist_roll_joint": 0.0,
 }
+# the arm straight up over the base: where the hand goes after letting go, so that nothing of
+# the robot touches what it let go of while that settles (the stowed hand reaches 0.4 m ahead)
+RAISED = {
+    "arm_lift_joint": 0.69,
+    "arm_flex_joint": 0.0,
+    "arm_roll_joint": 0.0,
+    "wrist_flex_joint": 0.0,
+    "wrist_roll_joint": 0.0,
+}
 STOW = {
     "arm_lift_joint": 0.0,
     "arm_flex_joint": 0.0,
@@ -42,6 +51,7 @@ STOW = {
     "wrist_roll_joint": 0.0,
 }
 ARM = ("arm_lift_joint", "arm_flex_joint", "arm_roll_joint", "wrist_flex_joint", "wrist_roll_joint")
+WHOLE_BODY = ARM + ("base_yaw_joint",)  # what a reach moves
 HAND_DOWN = p.getQuaternionFromEuler(
     (0.0, math.pi, 0.0)
 )  # the grasp frame's z (towards the fingertips) points down
@@ -55,6 +65,8 @@ IK_SEEDS = (
     {"arm_lift_joint": 0.69, "arm_flex_joint": -0.6, "wrist_flex_joint": -1.0},
 )
 REACHED = 0.02  # m: the hand this close to the target counts as there
+TILT = 0.1  # rad: a hand tilted this little from the wanted orientation holds an object upright
+TURNS = tuple(k * math.pi / 4 for k in (0, 1, -1, 2, -2, 3, -3, 4))  # rad about the vertical, nearest first
 
 
 @dataclass(frozen=True, slots=True)
@@ -167,25 +179,41 @@ class HSR:
         return state[4], state[5]
 
     def reach(
-        self, target: tuple[float, float, float], orientation=HAND_DOWN, *, strict: bool = False
+        self,
+        target: tuple[float, float, float],
+        orientation=HAND_DOWN,
+        *,
+        strict: bool = False,
+        turns: tuple[float, ...] = TURNS,
+        carried: tuple[float, float, float] = (0.0, 0.0, 0.0),
     ) -> tuple[dict[str, float], float]:
-        """Arm joint values that bring the grasp frame to ``target`` (world), and how far from it
-        they leave the hand (m); the robot is left as it was. The hand in ``orientation`` (a
-        quaternion; pointing down, a top grasp, by default) is preferred; where that does not
-        reach, any orientation (unless ``strict``). The virtual base joints and the
-        head get a large damping, so the solver moves the arm only."""
+        """Joint values that bring the point ``carried`` of the hand's frame (the grasp frame
+        itself by default; the centre of a held object) to ``target`` (world), and how far from
+        it they leave that point (m); the robot is left as it was. The hand as ``orientation``
+        (a quaternion; pointing down, a top grasp, by default) turned about the vertical by one
+        of ``turns`` (rad; any multiple of 45 degrees by default) is preferred: a turn about the
+        vertical does not tilt what the hand holds. A solution counts only if it tilts the hand
+        less than 0.1 rad from the wanted orientation; where none reaches, any orientation does
+        (unless ``strict``). The base may turn in place, as the HSR's whole-body reach does (the
+        arm is mounted 78 mm to the side of the base's centre); its x and y joints and the head
+        get a large damping, so the solver moves the arm and the yaw only."""
         movable = self._movable
         saved = {j.name: self.q(j.name) for j in movable}
-        damping = [0.02 if j.name in ARM else 1000.0 for j in movable]
+        damping = [0.02 if j.name in WHOLE_BODY else 1000.0 for j in movable]
+        inverse = p.invertTransform((0, 0, 0), orientation)[1]
+        turned = [_turn(orientation, a) for a in turns]
         best: tuple[dict[str, float], float] = ({}, math.inf)
-        for wanted in (orientation,) if strict else (orientation, None):
+        for wanted in turned if strict else [*turned, None]:
+            # the hand's frame where the carried point lands on the target
+            offset = p.multiplyTransforms((0, 0, 0), wanted or orientation, carried, (0, 0, 0, 1))[0]
+            aim = tuple(t - o for t, o in zip(target, offset, strict=True))
             for seed in IK_SEEDS:
                 self.set_joints(seed)
                 for _ in range(4):  # re-solve from the clamped solution: limits are soft in pybullet
                     sol = p.calculateInverseKinematics(
                         self.body,
                         self.grasp_link,
-                        target,
+                        aim,
                         wanted,
                         jointDamping=damping,
                         currentPositions=[self.q(j.name) for j in movable],
@@ -193,10 +221,22 @@ class HSR:
                         residualThreshold=1e-4,
                         physicsClientId=self.client,
                     )
-                    self.set_joints({j.name: v for j, v in zip(movable, sol, strict=True) if j.name in ARM})
-                    err = math.dist(self.hand()[0], target)
+                    self.set_joints(
+                        {j.name: v for j, v in zip(movable, sol, strict=True) if j.name in WHOLE_BODY}
+                    )
+                    pos, orn = self.hand()
+                    err = math.dist(p.multiplyTransforms(pos, orn, carried, (0, 0, 0, 1))[0], target)
+                    if wanted is None:  # any orientation: aim again for the one the hand has now
+                        offset = p.multiplyTransforms((0, 0, 0), orn, carried, (0, 0, 0, 1))[0]
+                        aim = tuple(t - o for t, o in zip(target, offset, strict=True))
+                    tilted = (
+                        wanted is not None
+                        and _tilt(p.multiplyTransforms((0, 0, 0), orn, (0, 0, 0), inverse)[1]) > TILT
+                    )
+                    if tilted:
+                        continue
                     if err < best[1]:
-                        best = ({n: self.q(n) for n in ARM}, err)
+                        best = ({n: self.q(n) for n in WHOLE_BODY}, err)
                     if err < 0.005:
                         break
                 if best[1] < 0.005:
@@ -210,3 +250,20 @@ class HSR:
     def set_gripper(self, opening: float) -> float:
         """Each finger ``opening`` m from the centre; returns the seconds."""
         return self.set_joints({"hand_l_finger_joint": opening, "hand_r_finger_joint": opening})
+
+
+def hand_level(yaw: float) -> tuple[float, float, float, float]:
+    """The hand held level, the fingertips pointing along ``yaw`` (a side grasp)."""
+    return p.getQuaternionFromEuler((0.0, math.pi / 2, yaw))
+
+
+def _turn(orientation, angle: float) -> tuple[float, float, float, float]:
+    """``orientation`` turned by ``angle`` about the world's vertical."""
+    return p.multiplyTransforms((0, 0, 0), p.getQuaternionFromEuler((0, 0, angle)), (0, 0, 0), orientation)[1]
+
+
+def _tilt(rotation) -> float:
+    """How far (rad) ``rotation`` tips the vertical: 0 for any turn about it. A hand this far from
+    the wanted orientation tilts what it holds by as much."""
+    m = p.getMatrixFromQuaternion(rotation)
+    return math.acos(max(-1.0, min(1.0, m[8])))

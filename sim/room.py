@@ -1,7 +1,7 @@
 """The WRS tidy-up room in pybullet, built from a scenario file (``sim.scenario``).
 
 Walls (0.6 m, the WRS minimum, with a 1.2 m door at the entrance), furniture as solid boxes of
-the scenario's footprint and height, each deposit a tray with a low rim on the furniture it
+the scenario's footprint and height, each deposit a tray (the WRS tray's size) with a rim on the furniture it
 stands on, and the items: small boxes of 0.1 kg that physics can drop, tip and settle. Colours
 follow the item categories (the deposits share their category's colour). The robot is placed at
 the entrance facing the scenario's heading.
@@ -21,7 +21,7 @@ from sim.robot import HSR
 from sim.scenario import Scenario
 
 WALL_HEIGHT, WALL_THICKNESS, DOOR = 0.6, 0.10, 1.2
-TRAY, RIM = 0.30, 0.03  # m: inner side of a deposit tray (the 0.19 m WRS boxes fit), rim height
+TRAY, RIM = 0.38, 0.05  # m: inner side of a deposit tray (the WRS food tray, 0.38 x 0.36), rim height
 ITEM_MASS = 0.1  # kg
 PALETTE = [(0.85, 0.33, 0.10), (0.00, 0.45, 0.74), (0.47, 0.67, 0.19), (0.49, 0.18, 0.56), (0.93, 0.69, 0.13)]
 FURNITURE_COLOUR = {"table": (0.60, 0.45, 0.30), "shelf": (0.55, 0.40, 0.28), "chair": (0.35, 0.35, 0.40)}
@@ -142,3 +142,8 @@ def _box(client: int, centre, size, colour, mass: float) -> int:
     if mass > 0:
         p.changeDynamics(body, -1, lateralFriction=0.8, rollingFriction=0.001, physicsClientId=client)
     return body
+
+
+def in_tray(deposit_xy: tuple[float, float], xy: tuple[float, float]) -> bool:
+    """Is a point (an object's centre) inside the tray of the deposit at ``deposit_xy``?"""
+    return abs(xy[0] - deposit_xy[0]) <= TRAY / 2 and abs(xy[1] - deposit_xy[1]) <= TRAY / 2

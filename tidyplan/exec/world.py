@@ -15,7 +15,7 @@ import numpy as np
 
 from sim.scenario import Scenario
 from tidyplan.belief import Detection
-from tidyplan.exec.geometry import RoomMap
+from tidyplan.exec.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
 
 Point = tuple[float, float]
 
@@ -105,6 +105,11 @@ class WorldReferee:
 
     def close(self) -> None:
         """Release what the world holds (a physics server); nothing here."""
+
+    def grasp_distances(self, height: float) -> tuple[float, float, float]:
+        """(nearest, best, farthest) the base's centre may stand from an object of ``height``
+        to take it: the arm's comfortable reach."""
+        return GRASP_MIN, GRASP_BEST, GRASP_MAX
 
     def _faults_on_path(self, n: int) -> tuple[int | None, int | None]:
         """For a motion along ``n`` path points: the segment a transient obstacle stops it at
