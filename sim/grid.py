@@ -157,6 +157,31 @@ class OccupancyGrid:
             return None
         return [self.xy(*c) for c in cells]
 
+    def still_reaches(self, box: Box, a: Point, points: Sequence[Point]) -> bool:
+        """Would the robot at ``a`` still reach every one of ``points`` with ``box`` added to the
+        floor? A flood fill over this grid's free cells less those the box (inflated) covers:
+        cheaper than a new grid, for ranking where to put an item down."""
+        free = self.mask.copy()
+        r = self.radius
+        lo_i, lo_j = self.cell(box.cx - box.sx / 2 - r, box.cy - box.sy / 2 - r)
+        hi_i, hi_j = self.cell(box.cx + box.sx / 2 + r, box.cy + box.sy / 2 + r)
+        for i in range(max(lo_i, 0), min(hi_i + 1, self.shape[0])):
+            for j in range(max(lo_j, 0), min(hi_j + 1, self.shape[1])):
+                if box.clearance(*self.xy(i, j)) < r:
+                    free[i, j] = False
+        start = self.cell(*a)
+        if not (0 <= start[0] < self.shape[0] and 0 <= start[1] < self.shape[1] and free[start]):
+            return False
+        seen, todo = {start}, [start]
+        while todo:
+            i, j = todo.pop()
+            for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)):
+                c = (i + di, j + dj)
+                if c not in seen and 0 <= c[0] < self.shape[0] and 0 <= c[1] < self.shape[1] and free[c]:
+                    seen.add(c)
+                    todo.append(c)
+        return all(self.cell(*p) in seen for p in points)
+
     def with_obstacles(self, boxes: Iterable[Box]) -> OccupancyGrid:
         """A new grid with ``boxes`` added (e.g. objects seen on the floor); this one is unchanged."""
         return OccupancyGrid(

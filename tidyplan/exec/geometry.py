@@ -138,9 +138,11 @@ class RoomMap:
         reachable = set(nav.free_cells(reachable_from=self.entrance))
         for p in sorted(items, key=lambda p: p.name):
             self._add_grasp(facts, p, floor, nav, static, bare, reachable, (sticky or {}).get(p.name))
-        if robot is not None and not any(math.dist(robot[1], q) < 0.03 for q in facts.points.values()):
-            name = robot[0] if robot[0] not in facts.points else "wp-robot"
-            facts.points[name], facts.kind[name] = robot[1], "robot"
+        if robot is not None and robot[0] not in facts.points:
+            # under its own name even beside another waypoint: the plan being executed says it
+            facts.points[robot[0]], facts.kind[robot[0]] = robot[1], "robot"
+        elif robot is not None and not any(math.dist(robot[1], q) < 0.03 for q in facts.points.values()):
+            facts.points["wp-robot"], facts.kind["wp-robot"] = robot[1], "robot"
         self._add_paths(facts, items, nav, static)
         return facts
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from sim.grid import Box
 from tidyplan.belief import Belief
 from tidyplan.exec.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, free_spots
 from tidyplan.monitor.unit import Failure, FailureClass, StateMonitor, Unit
@@ -114,6 +115,7 @@ class AdjustBase(Unit):
     def __init__(self, ctx: Context, item: str) -> None:
         self.ctx, self.item = ctx, item
         self.target: Point | None = None
+        self.reach = (GRASP_MIN, GRASP_BEST, GRASP_MAX)  # from the base to the item's centre
         self.path: list[Point] | None = None
         self.tried: list[Point] = []
         self.another = False
@@ -124,13 +126,14 @@ class AdjustBase(Unit):
     def plan(self):
         pose = self.ctx.world.pose()
         d = math.dist(pose, self.target)
-        if GRASP_MIN - 0.05 <= d <= GRASP_MAX and not self.another:
+        near, best, far = self.reach
+        if near - 0.05 <= d <= far and not self.another:
             self.path = None
             return None
         bare = self.ctx.belief.room.grid(self.ctx.floor(without=self.item), bare=True)
         tx, ty = self.target
         ring = [
-            (round(tx + GRASP_BEST * math.cos(a), 3), round(ty + GRASP_BEST * math.sin(a), 3))
+            (round(tx + best * math.cos(a), 3), round(ty + best * math.sin(a), 3))
             for a in (2 * math.pi * k / 16 for k in range(16))
         ]
         ring = [p for p in ring if bare.free(*p) and all(math.dist(p, q) > 0.1 for q in self.tried + [pose])]
@@ -167,6 +170,7 @@ class Grasp(Unit):
     def __init__(self, ctx: Context, item: str) -> None:
         self.ctx, self.item = ctx, item
         self.target: Point | None = None
+        self.reach = (GRASP_MIN, GRASP_BEST, GRASP_MAX)
 
     def check(self):
         if self.ctx.world.holds():
@@ -175,7 +179,8 @@ class Grasp(Unit):
 
     def plan(self):
         d = math.dist(self.ctx.world.pose(), self.target)
-        if not GRASP_MIN - 0.1 <= d <= GRASP_MAX + 0.05:
+        near, _, far = self.reach
+        if not near - 0.1 <= d <= far + 0.05:
             return Failure(A, "out_of_reach", f"{self.item} is {d:.2f} m from the base")
         return None
 
@@ -261,8 +266,9 @@ class Place(Unit):
 
 
 class PutDown(Unit):
-    """drop_object: put the held item on free floor next to the robot, towards the walls (out of
-    the way: Algorithm 1's "drop it in a free space nearby"); another spot after a failure."""
+    """drop_object: put the held item on free floor next to the robot where it closes no way the
+    robot has now, towards the walls (out of the way: Algorithm 1's "drop it in a free space
+    nearby"); another spot after a failure."""
 
     name, phase = "put_down", "manipulation"
 
@@ -282,7 +288,21 @@ class PutDown(Unit):
         spots = free_spots(belief.scenario, self.ctx.world.pose(), occupied)
         if not spots:
             return Failure(A, "no_spot", "no free floor next to the robot")
-        self.spot = max(spots, key=lambda p: (math.dist(p, centre), p))
+        # Out of the way: where it leaves every waypoint the robot reaches now reachable (it must
+        # go back, and on), then the farthest from the room's centre, towards the walls.
+        pose = self.ctx.world.pose()
+        grid = belief.room.grid(self.ctx.floor(without=self.item))
+        points = list(belief.facts().points.values())
+        needed = [q for q, n in zip(points, grid.lengths_from(pose, points), strict=True) if n is not None]
+        item = belief.items[self.item]
+        self.spot = max(
+            spots,
+            key=lambda p: (
+                grid.still_reaches(Box(p[0], p[1], item.sx, item.sy), pose, needed),
+                math.dist(p, centre),
+                p,
+            ),
+        )
         return None
 
     def do(self, monitor: StateMonitor):
@@ -347,6 +367,7 @@ def _locate(ctx: Context, item: str, unit) -> Failure | None:
         return Failure(A, "not_found", f"no {k.category} near ({k.x:.2f}, {k.y:.2f})")
     ctx.belief.relocate(item, seen.x, seen.y)
     unit.target = (seen.x, seen.y)
+    unit.reach = ctx.world.grasp_distances(seen.sz)
     return None
 
 
