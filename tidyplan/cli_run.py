@@ -40,9 +40,9 @@ def add_parsers(sub, positive) -> None:
     r.add_argument(
         "--world",
         choices=("pybullet", "symbolic"),
-        default="symbolic",
-        help="symbolic (default until case III tidies in pybullet): the fast world with a hidden truth; "
-        "pybullet: the HSR in the physics world",
+        default="pybullet",
+        help="pybullet (default): the HSR in the physics world, headless unless --gui; "
+        "symbolic: the fast world with a hidden truth",
     )
     r.add_argument(
         "--strategy",
@@ -144,7 +144,7 @@ def cmd_run(args) -> int:
     from tidyplan.mission import Settings, run  # the planner stack loads only when needed
 
     if args.gui and args.world != "pybullet":
-        raise InputError("--gui: only the pybullet world has a window (add --world pybullet)")
+        raise InputError("--gui: only the pybullet world has a window (leave out --world symbolic)")
     from tidyplan.engines import check_name
     from tidyplan.mission import project_file
 
