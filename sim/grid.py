@@ -84,6 +84,8 @@ class OccupancyGrid:
         self.mask = self._free_mask()
         self.graph = self._graph()
         self._lengths: dict[Cell, dict[Cell, float]] = {}
+        self._component: dict[Cell, int] = {}  # cell -> its connected component's number
+        self._paths: dict[tuple[Cell, Cell], tuple[Cell, ...] | None] = {}
 
     # ------------------------------------------------------------------ cells and points
     def xy(self, i: int, j: int) -> Point:
@@ -151,11 +153,24 @@ class OccupancyGrid:
         ca, cb = self.cell(*a), self.cell(*b)
         if not (self._free_cell(ca) and self._free_cell(cb)):
             return None
-        try:
-            cells = nx.dijkstra_path(self.graph, ca, cb, weight="weight")
-        except nx.NetworkXNoPath:
-            return None
-        return [self.xy(*c) for c in cells]
+        if (ca, cb) not in self._paths:  # remembered: a mission asks for the same pairs again
+            try:
+                self._paths[(ca, cb)] = tuple(nx.dijkstra_path(self.graph, ca, cb, weight="weight"))
+            except nx.NetworkXNoPath:
+                self._paths[(ca, cb)] = None
+        cells = self._paths[(ca, cb)]
+        return None if cells is None else [self.xy(*c) for c in cells]
+
+    def connected(self, a: Point, b: Point) -> bool:
+        """Whether a path joins a and b (a breadth-first search, remembered per component: much
+        cheaper than a path length when only reachability is asked)."""
+        ca, cb = self.cell(*a), self.cell(*b)
+        if not (self._free_cell(ca) and self._free_cell(cb)):
+            return False
+        if ca not in self._component:
+            number = len(set(self._component.values()))
+            self._component.update(dict.fromkeys(nx.node_connected_component(self.graph, ca), number))
+        return self._component.get(cb) == self._component[ca]
 
     def still_reaches(self, box: Box, a: Point, points: Sequence[Point]) -> bool:
         """Would the robot at ``a`` still reach every one of ``points`` with ``box`` added to the

@@ -255,12 +255,10 @@ class RoomMap:
         every floor item near the pair's path on the static map (all of them must go)."""
         floor = [p for p in items if p.on == "floor"]
         freed: dict[tuple[int, int], list[str]] = {pair: [] for pair in pairs}
-        sources = sorted({i for i, _ in pairs})
         for p in floor:
             grid = self.grid([q.box() for q in floor if q is not p])
-            rows = {i: grid.lengths_from(pts[i], pts) for i in sources}
             for i, j in pairs:
-                if rows[i][j] is not None:
+                if grid.connected(pts[i], pts[j]):
                     freed[(i, j)].append(p.name)
         static = self.grid(())
         for (i, j), who in freed.items():
