@@ -11,6 +11,7 @@ from dataclasses import replace
 from tests.test_loop import EXACT, _scenario
 from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.symbolic import SymbolicWorld
+from tidyplan.exec.world import Outcome
 from tidyplan.mission import Settings, run
 from tidyplan.monitor.unit import FailureClass, StateMonitor
 
@@ -109,3 +110,48 @@ def test_an_item_forgotten_by_a_later_look_of_the_same_action_is_not_reported_ne
     belief.forget(phantom)  # what the next looks do to a detection they do not confirm
     ctx.look()
     assert phantom not in belief.items and ctx.new == []
+
+
+def test_an_item_the_arm_cannot_place_as_held_is_put_down_and_taken_again(tmp_path, monkeypatch):
+    # The first placement finds the item out of reach as it is held (class C): the place unit
+    # has it put down beside the robot and picked up again (another grasp), then places it.
+    real_place = SymbolicWorld.place
+    calls = []
+
+    def place(self, deposit, approach):
+        calls.append(deposit)
+        if len(calls) == 1:
+            return Outcome(False, "out_of_reach", 3.0)
+        return real_place(self, deposit, approach)
+
+    monkeypatch.setattr(SymbolicWorld, "place", place)
+    scenario = _scenario("regrasp", [("t1", 1.8, 1.0)])
+    trace = tmp_path / "t.jsonl"
+    summary = run(scenario, trace, Settings(rates=EXACT, time_budget=0.5))
+    assert summary["success"] and summary["lost_objects"] == 0 and len(calls) == 2
+    events = _events(trace)
+    insert = next(e for e in events if e["kind"] == "recovery" and e["failure"] == "out_of_reach")
+    assert insert["failure_class"] == "C" and insert["layer"] == "insert_unit"
+    assert insert["then"] == ["put_down", "adjust_base", "grasp"]
+    done = [
+        (e["unit"], e["depth"])
+        for e in events
+        if e["kind"] == "unit" and e["step"] == "do" and e["ok"] and e["unit"] != "look"
+    ]
+    assert done[-4:] == [("put_down", 1), ("adjust_base", 1), ("grasp", 1), ("place", 0)]
+    # A put-down to take it again is no removal (Algorithm 1): nothing to move back to.
+    assert not any(e["kind"] == "plan" and e["stratum"] == 3 for e in events)
+
+
+def test_an_action_that_keeps_failing_after_recovery_ends_the_mission(tmp_path, monkeypatch):
+    # Every placement fails (the hand never opens): each time the recoveries are exhausted and
+    # the planner replans the same delivery; the error layer stops after max_same_failure.
+    def place(self, deposit, approach):
+        return Outcome(False, "place_fail", 3.0)
+
+    monkeypatch.setattr(SymbolicWorld, "place", place)
+    scenario = _scenario("stuck", [("t1", 1.8, 1.0)])
+    summary = run(scenario, tmp_path / "t.jsonl", Settings(rates=EXACT, time_budget=0.5))
+    assert not summary["success"]
+    assert summary["reason"].startswith("(deliver_it ") and "failed (place_fail) 5 times" in summary["reason"]
+    assert summary["replan_causes"] == {"recovery_exhausted": 4}

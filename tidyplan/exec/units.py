@@ -256,13 +256,21 @@ class Place(Unit):
             d = next(d for d in belief.scenario.deposits if d.name == self.deposit)
             belief.fell(self.item, (d.x, d.y), FALL_SPREAD)
             return Failure(C, "place_missed", f"{self.item} is not in {self.deposit}")
+        if out.failure == "out_of_reach" and world.holds():
+            # the arm cannot bring it upright over the deposit as it is held: the condition of
+            # the hand must change, so put it down here and take it again (another grasp)
+            return Failure(C, "out_of_reach", f"{self.item} cannot be put into {self.deposit} as held")
         if not out.ok or world.holds():
             return Failure(B, out.failure or "place_fail")
         belief.delivered(self.item, self.deposit)
         return None
 
     def insert_for(self, failure: Failure) -> list[Unit]:
-        return pick_up(self.ctx, self.item) if failure.what == "place_missed" else []
+        if failure.what == "place_missed":
+            return pick_up(self.ctx, self.item)
+        if failure.what == "out_of_reach":
+            return [PutDown(self.ctx, self.item, regrasp=True), *pick_up(self.ctx, self.item)]
+        return []
 
 
 class PutDown(Unit):
@@ -272,8 +280,9 @@ class PutDown(Unit):
 
     name, phase = "put_down", "manipulation"
 
-    def __init__(self, ctx: Context, item: str) -> None:
+    def __init__(self, ctx: Context, item: str, regrasp: bool = False) -> None:
         self.ctx, self.item = ctx, item
+        self.regrasp = regrasp  # put down only to take it again: not Algorithm 1's removal
         self.spot: Point | None = None
         self.tried: list[Point] = []
 
@@ -311,7 +320,8 @@ class PutDown(Unit):
             self.tried.append(self.spot)
             return Failure(B, out.failure or "place_fail")
         self.ctx.belief.put(self.item, *self.spot)
-        self.ctx.belief.must_move_back = True
+        if not self.regrasp:
+            self.ctx.belief.must_move_back = True
         return None
 
 

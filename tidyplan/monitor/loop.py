@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import os
 import time
+from collections import Counter
 from dataclasses import dataclass, field, replace
 from statistics import median
 
@@ -45,6 +46,9 @@ class LoopConfig:
     min_probability: float = 1e-4  # give up when the best plan is less likely than this
     max_actions: int = 300  # O-FSM's halting criterion: a cap on the actions performed
     max_plans: int = 150
+    # The error layer's last word: one action whose recoveries are exhausted this often, each
+    # time replanned and tried again, will not go (the world has a reason the belief lacks).
+    max_same_failure: int = 5
 
 
 @dataclass(slots=True)
@@ -83,6 +87,7 @@ class Mission:
         self.bound: dict[str, str] = {}  # virtual object -> seen item
         self.stratum: int | None = None
         self._looks_left = LOOKS_BEFORE_GIVING_UP
+        self._exhausted: Counter[tuple[str, str | None]] = Counter()  # (action, failure) -> times
         self._plain = trace.save("domain.pddl", self.domain_text)
 
     # ------------------------------------------------------------------ the loop
@@ -143,6 +148,10 @@ class Mission:
         if contradicted:
             return self._replan(Cause.ASSUMPTION, contradicted)
         if report.recovery_exhausted:
+            self._exhausted[(step.text, report.failure)] += 1
+            times = self._exhausted[(step.text, report.failure)]
+            if times >= self.config.max_same_failure:
+                return f"{step.text} failed ({report.failure}) {times} times, each after its recoveries"
             return self._replan(Cause.RECOVERY, f"{step.text}: {report.failure}")
         if unbound:
             return self._replan(Cause.NEW_OBJECT, " ".join(unbound))
