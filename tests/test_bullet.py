@@ -334,3 +334,54 @@ def test_the_robots_map_is_read_from_the_built_scene(world):
         w.scene.furniture["tall-box"], (2.0, 2.0, 0.75), (0, 0, 0, 1), physicsClientId=w.client
     )
     assert w.scene.as_built().furniture[0].cx == 2.0  # read from the scene, not the file
+
+
+# ---------------------------------------------------------------------- manipulation
+# A tall box (0.45 m) on the floor and a WRS tray on a 0.4 m table: the hand pointing down could
+# not lift the box high enough to stand it in the tray, so it is taken from the side.
+TALL = """
+schema = 1
+name = "tall"
+title = "a tall box into a tray on a table"
+[room]
+bounds = [0.0, 4.0, 0.0, 4.0]
+entrance = [0.5, 0.5]
+[[furniture]]
+name = "table"
+center = [0.3, 2.0]
+size = [0.4, 1.0]
+height = 0.40
+kind = "table"
+[[deposit]]
+name = "tray"
+category = "box"
+position = [0.3, 2.0, 0.40]
+approach = [0.8, 2.0]
+[[item]]
+name = "crate"
+category = "box"
+position = [2.5, 2.0]
+size = [0.19, 0.19, 0.45]
+"""
+
+
+def _tilt(world: BulletWorld, name: str) -> float:
+    orn = p.getBasePositionAndOrientation(world.bodies[name], physicsClientId=world.client)[1]
+    return math.acos(min(1.0, p.getMatrixFromQuaternion(orn)[8]))
+
+
+def test_a_tall_box_is_taken_from_the_side_and_stands_upright_in_the_tray(world):
+    w = world(loads(TALL, "tall.toml"))
+    near, best, far = w.grasp_distances(0.45)
+    assert near > 0.5  # the side grasp reaches farther out than the top grasp (0.35-0.65 m)
+    _place(w, (2.5 + best, 2.0))
+    grasp = w.grasp((2.5, 2.0))
+    assert grasp.ok and w.holds()
+    hand = p.getMatrixFromQuaternion(w._held_as[0])  # the hand as it closed on the box
+    assert abs(hand[8]) < 0.1  # the fingers level: a side grasp, not from the top
+    _place(w, (0.8, 2.0))
+    out = w.place("tray", (0.8, 2.0))
+    assert out.ok, out.failure
+    crate = w.items["crate"]
+    assert crate.state == "tidied" and abs(crate.x - 0.3) <= 0.19 and abs(crate.y - 2.0) <= 0.19
+    assert _tilt(w, "crate") < 0.05  # it stands as it stood on the floor
