@@ -94,8 +94,9 @@ class Hand:
         return self._spend(seconds)
 
     def grasp_distances(self, height: float) -> tuple[float, float, float]:
-        """A tall object is taken from the side, which the arm reaches farther out: its face
-        0.45 to 0.7 m from the base (measured with ``HSR.reach`` from 0.1 to 1 m up)."""
+        """A tall object is taken from the side, which the arm reaches farther out: the hand
+        level 0.55 to 0.7 m from the base's centre (measured with ``HSR.reach``, 0.1 to 0.65 m
+        up; docs/world.md), so the object's centre about 0.1 m farther."""
         return SIDE_REACH if height > TALL else super().grasp_distances(height)
 
     def _grasps(self, item, z0: float, top: float) -> list[tuple[tuple, tuple, tuple, tuple]]:
