@@ -130,7 +130,7 @@ def _summary(scenario, settings, world, belief, mission, outcome, started, trace
         "distance_m": round(world.odometer.distance_m, 2),
         "sim_time_s": round(world.odometer.sim_time_s, 1),
         "wall_time_s": round(time.perf_counter() - started, 2),
-        "replan_time_s": mission.summary_times(),
+        "replan_time_s": mission.count.plan_time_summary(),
         "trace": str(trace_path),
     }
 

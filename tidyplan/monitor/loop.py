@@ -21,11 +21,11 @@ from __future__ import annotations
 import os
 import time
 from collections import Counter
-from dataclasses import dataclass, field, replace
-from statistics import median
+from dataclasses import dataclass, replace
 
 from tidyplan.belief import Belief
 from tidyplan.errors import PlannerError
+from tidyplan.monitor.counting import Counters
 from tidyplan.monitor.triggers import Cause
 from tidyplan.pddl import model as m
 from tidyplan.pddl.check import check_problem
@@ -49,19 +49,6 @@ class LoopConfig:
     # The error layer's last word: one action whose recoveries are exhausted this often, each
     # time replanned and tried again, will not go (the world has a reason the belief lacks).
     max_same_failure: int = 5
-
-
-@dataclass(slots=True)
-class Counters:
-    actions: int = 0
-    replans: int = 0
-    replans_avoided: int = 0
-    recoveries: int = 0
-    causes: dict[str, int] = field(default_factory=dict)
-    plan_times: list[float] = field(default_factory=list)
-    strata: dict[str, int] = field(default_factory=lambda: {"P1": 0, "P2": 0, "P3": 0})
-    paper_actions: int = 0  # Yan et al.'s count: the approach move is part of take_object
-    segment: int = 1  # highest stratum used since the last delivery
 
 
 @dataclass(slots=True)
@@ -125,7 +112,7 @@ class Mission:
         step = self.steps.pop(0)
         since = len(self.world.odometer.track)
         report = self.executor.execute(step, self.snapshot, self.belief, self._observe)
-        self._count(step, report)
+        self.count.action(step, report, self.belief.holding is not None, self.belief.must_move_back)
         self.trace.emit(
             "action",
             action=step.text,
@@ -373,27 +360,11 @@ class Mission:
                 )
         return None
 
-    def _count(self, step: Step, report) -> None:
-        c = self.count
-        c.actions += 1
-        c.recoveries += report.recoveries
-        c.segment = max(c.segment, step.stratum)
-        carrying = self.belief.holding is not None
-        if report.ok and (step.name != "move" or carrying or self.belief.must_move_back):
-            c.paper_actions += 1
-        if report.ok and step.name == "deliver_it":
-            c.strata[f"P{c.segment}"] += 1
-            c.segment = 1
-
     def _true_places(self) -> dict[str, list]:
         """Where the world holds each item at the end (the referee's view, for a reader to draw):
         name -> [state, x, y], state ``placed``, ``held`` or ``tidied:<deposit>``."""
         found = {i.name: self.world.where(i.name) for i in self.belief.scenario.items}
         return {n: [state, _r(x), _r(y)] for n, (state, (x, y)) in found.items()}
-
-    def summary_times(self) -> dict:
-        t = self.count.plan_times
-        return {"median": round(median(t), 3), "max": round(max(t), 3)} if t else {"median": 0.0, "max": 0.0}
 
 
 def _rename(step: Step, old: str, new: str) -> Step:

@@ -1,0 +1,41 @@
+"""What a mission counts, as the papers count it: actions the way Yan et al. count them (the
+approach move is part of take_object), deliveries by the highest O-FSM stratum used since the
+last delivery, replans by their cause (Goebelbecker's monitoring triggers), recoveries, and the
+planning times. The loop adds to it; the summary and the trace reader report it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from statistics import median
+
+from tidyplan.planner import Step
+
+
+@dataclass(slots=True)
+class Counters:
+    actions: int = 0
+    replans: int = 0
+    replans_avoided: int = 0
+    recoveries: int = 0
+    causes: dict[str, int] = field(default_factory=dict)
+    plan_times: list[float] = field(default_factory=list)
+    strata: dict[str, int] = field(default_factory=lambda: {"P1": 0, "P2": 0, "P3": 0})
+    paper_actions: int = 0  # Yan et al.'s count: the approach move is part of take_object
+    segment: int = 1  # highest stratum used since the last delivery
+
+    def action(self, step: Step, report, carrying: bool, must_move_back: bool) -> None:
+        """One executed action: ``carrying`` and ``must_move_back`` as the belief has them after it
+        (a move counts for Yan et al. only when it carries an item or returns from a removal)."""
+        self.actions += 1
+        self.recoveries += report.recoveries
+        self.segment = max(self.segment, step.stratum)
+        if report.ok and (step.name != "move" or carrying or must_move_back):
+            self.paper_actions += 1
+        if report.ok and step.name == "deliver_it":
+            self.strata[f"P{self.segment}"] += 1
+            self.segment = 1
+
+    def plan_time_summary(self) -> dict:
+        t = self.plan_times
+        return {"median": round(median(t), 3), "max": round(max(t), 3)} if t else {"median": 0.0, "max": 0.0}
