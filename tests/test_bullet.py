@@ -15,7 +15,7 @@ import pytest
 
 from sim.scenario_file import loads
 from tidyplan.cli_run import parse_faults
-from tidyplan.exec.bullet import BulletWorld
+from tidyplan.exec.bullet import BACK_OFF, STEP, BulletWorld
 from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.world import Rates
 from tidyplan.mission import Settings, run
@@ -186,9 +186,15 @@ def test_a_drive_straight_through_a_floor_item_stops_short_of_it(world):
     assert x == pytest.approx(1.0) and toy.y < y < start[1]  # on its way, before the toy
     assert math.dist((x, y), (toy.x, toy.y)) > BASE_RADIUS
     assert w.hsr.base()[:2] == pytest.approx((x, y))
-    assert out.metres == pytest.approx(start[1] - y, abs=1e-6)
+    # it stopped where the last check passed, then backed off BACK_OFF along its way (to the
+    # check at least that far from the contact): the odometer counts both legs
+    backed = (out.metres - (start[1] - y)) / 2
+    assert BACK_OFF - STEP - 1e-6 <= backed < BACK_OFF
     after = p.getBasePositionAndOrientation(body, physicsClientId=w.client)[0]
     assert after == pytest.approx(before, abs=1e-6)  # stopped, not pushed through
+    # and it can drive on from there, though the next path's first step (to a grid cell's centre)
+    # may lead a step toward the toy: standing where the last check passed, that step was blocked
+    assert w.follow([(x, y), (x, y - STEP), (x - 0.3, y - STEP)]).ok
 
 
 # ---------------------------------------------------------------------- missions

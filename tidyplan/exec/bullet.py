@@ -39,6 +39,10 @@ from tidyplan.exec.world import Odometer, Outcome, Rates, WorldReferee
 Point = tuple[float, float]
 
 STEP = 0.05  # m between collision checks along a path (the grid's cell)
+# A robot stopped by a contact backs off this far along its way: stopped where the last check
+# passed, it stood within a step of the obstacle, and the next path's first step (to the centre
+# of its grid cell) could run into it again, which pinned the robot where it stood.
+BACK_OFF = 0.10
 
 
 class BulletWorld(Hand, HeadCamera, WorldReferee):
@@ -98,6 +102,7 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
         ignore = self._ignored()
         metres = seconds = 0.0
         before = base_contacts(self.hsr, ignore)
+        passed = [self.robot]  # poses whose check passed, latest last
         for k in range(1, n):
             if k == block_at:
                 return Outcome(False, "path_blocked", seconds, metres)
@@ -107,11 +112,15 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
                 q = (a[0] + (b[0] - a[0]) * s / steps, a[1] + (b[1] - a[1]) * s / steps)
                 self._place_base(q)
                 if blocked(base_contacts(self.hsr, ignore), before):
-                    self._place_base(self.robot)  # stop short: back where the last check passed
-                    return Outcome(False, "path_blocked", seconds, metres)
+                    back = next((r for r in reversed(passed) if math.dist(r, q) >= BACK_OFF), passed[0])
+                    d = math.dist(self.robot, back)
+                    self._place_base(back)  # stop short, and back off where the way was clear
+                    self._arrive(back, d, d / speed)
+                    return Outcome(False, "path_blocked", seconds + d / speed, metres + d)
                 d = math.dist(self.robot, q)
                 metres, seconds = metres + d, seconds + d / speed
                 self._arrive(q, d, d / speed)
+                passed.append(q)
             if k == drop_at:
                 self._slip()
             if monitor is not None and not monitor.poll():
