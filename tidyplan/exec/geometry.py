@@ -170,7 +170,10 @@ class RoomMap:
             facts.points[name], facts.kind[name] = min(now, key=rank), "grasp"
             facts.grasp[p.name] = name
             return
-        room = set(static.free_cells(reachable_from=self.entrance))
+        # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
+        # its paths would be blocked by the item to be taken from there (no plan could start)
+        own = self.grid([p.box()]) if p.on == "floor" else static
+        room = set(own.free_cells(reachable_from=self.entrance))
         later = [c for c in crossing if c in room]
         if previous in later:
             later = [previous]
