@@ -14,7 +14,7 @@ from sim.scenario import ScenarioError
 from sim.scenario_file import load
 from tidyplan.errors import Diagnostic, InputError
 from tidyplan.exec.world import Rates
-from tidyplan.monitor.loop import STRATEGIES
+from tidyplan.strata import STRATEGIES  # not the loop: `tidyplan check` must not load the planner stack
 
 DEFAULT_SCENARIO = "problems/case3.toml"
 CASES = {"I": "case1.toml", "II": "case2.toml", "III": "case3.toml"}
@@ -53,9 +53,9 @@ def add_parsers(sub, positive) -> None:
     r.add_argument("--seed", type=int, default=0)
     r.add_argument(
         "--planner",
-        default="lama",
-        help="engine: lama (default, anytime), lama-first or optimal (deterministic), "
-        "or any unified-planning engine name",
+        default=None,
+        help="engine: lama (default, anytime), lama-optimal (LAMA beside a cost-optimal search), "
+        "lama-first or optimal (deterministic), or any unified-planning engine name",
     )
     r.add_argument("--faults", default="", metavar="K=V,...", help="fault rates: " + ", ".join(FAULTS))
     r.add_argument("--trace", metavar="FILE", help="trace file to write (default: runs/<scenario>-...)")
@@ -141,15 +141,16 @@ def _trace_path(folder: Path, stem: str) -> Path:
 
 
 def cmd_run(args) -> int:
-    from tidyplan.mission import Settings, run  # the planner stack loads only when needed
+    from tidyplan.mission import MISSION_ENGINE, Settings, run  # the planner stack loads only when needed
 
+    planner = args.planner or MISSION_ENGINE
     if args.gui and args.world != "pybullet":
         raise InputError("--gui: only the pybullet world has a window (leave out --world symbolic)")
     from tidyplan.engines import check_name
     from tidyplan.mission import project_file
 
     scenario = _scenario(args.scenario or project_file(DEFAULT_SCENARIO))
-    check_name(args.planner)
+    check_name(planner)
     rates = parse_faults(args.faults)
     if args.max_recovery < 0:
         raise InputError(f"--max-recovery: {args.max_recovery} is negative")
@@ -163,7 +164,7 @@ def cmd_run(args) -> int:
     settings = Settings(
         args.strategy,
         args.seed,
-        planner=args.planner,
+        planner=planner,
         time_budget=args.time_budget,
         min_probability=args.min_probability,
         rates=rates,

@@ -22,6 +22,8 @@ from .pddl.compile import CompiledTask
 
 R = TypeVar("R")
 
+STRATEGIES = {"ofsm": None, "greedy": 1}  # a mission's strategy -> the highest stratum it may use
+
 
 class Outcome(Enum):
     """How one attempt within a stratum ended."""

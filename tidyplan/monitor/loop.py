@@ -33,10 +33,9 @@ from tidyplan.pddl.reader import parse, read_domain, read_text
 from tidyplan.pddl.simulate import Simulator
 from tidyplan.planner import PlanResult, Status, Step
 from tidyplan.problem import Snapshot, write
-from tidyplan.strata import transition
+from tidyplan.strata import STRATEGIES, transition
 from tidyplan.trace import polyline
 
-STRATEGIES = {"ofsm": None, "greedy": 1}  # strategy -> highest stratum it may use
 LOOKS_BEFORE_GIVING_UP = 3  # as many as the belief needs to forget an item that is not there
 
 
