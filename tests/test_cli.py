@@ -161,7 +161,7 @@ def test_val_accepts_our_plans_on_the_compiled_pddl(domain, problem, tmp_path, c
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("planner", ["lama", "lama-first", "optimal"])
+@pytest.mark.parametrize("planner", ["lama-optimal", "lama", "lama-first", "optimal"])
 def test_a_goal_that_already_holds_is_an_empty_plan(planner, tmp_path, capsys):
     (tmp_path / "d.pddl").write_text(
         "(define (domain lights) (:predicates (on))\n"
