@@ -10,10 +10,7 @@ import sys
 import time
 from pathlib import Path
 
-from sim.scenario import ScenarioError
-from sim.scenario_file import load
 from tidyplan.errors import Diagnostic, InputError
-from tidyplan.exec.world import Rates
 from tidyplan.strata import STRATEGIES  # not the loop: `tidyplan check` must not load the planner stack
 
 DEFAULT_SCENARIO = "problems/case3.toml"
@@ -96,7 +93,10 @@ def add_parsers(sub, positive) -> None:
     rp.add_argument("--json", action="store_true")
 
 
-def parse_faults(text: str) -> Rates:
+def parse_faults(text: str):
+    """The world's fault rates (a ``tidyplan.exec.world.Rates``) from ``--faults``."""
+    from tidyplan.exec.world import Rates  # numpy, networkx: not for `tidyplan check`
+
     rates: dict[str, float] = {}
     for part in filter(None, (p.strip() for p in text.split(","))):
         key, sep, value = part.partition("=")
@@ -123,6 +123,9 @@ def parse_faults(text: str) -> Rates:
 
 
 def _scenario(path: str | Path):
+    from sim.scenario import ScenarioError
+    from sim.scenario_file import load
+
     try:
         return load(path)
     except ScenarioError as e:

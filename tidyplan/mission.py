@@ -36,15 +36,13 @@ def project_file(relative: str) -> Path:
 DOMAIN = project_file("domains/tidy.pddl")
 
 
-MISSION_ENGINE = "lama"
+MISSION_ENGINE = "lama"  # tidyplan.engines.DEFAULT_ENGINE, without importing the planner stack
 
 
 @dataclass(frozen=True, slots=True)
 class Settings:
     strategy: str = "ofsm"
     seed: int = 0
-    # Not DEFAULT_ENGINE (lama-optimal): with it the default mission ended 11 of 12 (a different
-    # route left one object with no grasp pose), with LAMA alone 12 of 12: see the notes.
     planner: str = MISSION_ENGINE
     time_budget: float = 1.0
     min_probability: float = 1e-4

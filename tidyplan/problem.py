@@ -9,9 +9,7 @@ Facts, from the belief and the map (``tidyplan.exec.geometry``):
   waypoint) and that it is ``located``; tidied items are left out (nothing more to do with them);
 - unseen items as ``:virtual-objects`` with their category; ``unexplored`` viewpoints with
   ``p-item-near`` for ``assume-item-near``;
-- paths and their lengths, blocked paths and what blocks them, pose adjustments, and
-  ``shortest-paths`` when no detour beats the direct paths (not so once a move found its way
-  blocked and that path was struck from the map: the robot must then go round);
+- paths and their lengths, blocked paths and what blocks them, pose adjustments;
 - for every item that may need moving out of the way, the removal waypoint of Algorithm 1,
   computed from where that item is picked up (``tidyplan.removal``).
 """
@@ -26,7 +24,6 @@ from tidyplan.exec.geometry import MapFacts, deposit_waypoint
 from tidyplan.removal import Waypoint, removal_waypoint
 
 NOT_FOR_REMOVAL = ("grasp", "deposit", "adjust", "robot")
-DETOUR_TOLERANCE = 0.02  # m: three distances each rounded to the centimetre
 
 
 @dataclass(frozen=True, slots=True)
@@ -108,8 +105,6 @@ def write(
         init.append(f"(blocks {item} {a} {b})")
     for (a, b), d in sorted(facts.adjust.items()):
         init.append(f"(pose-adjustment {a} {b}) (= (distance {a} {b}) {d:.2f})")
-    if shortest_paths(facts.path):
-        init.append("(shortest-paths)")
     items = [k.name for k in seen]
     lines = [
         f";; {name}: written from the belief state by tidyplan (scenario {belief.scenario.name}).",
@@ -133,24 +128,6 @@ def write(
         "",
     ]
     return Snapshot("\n".join(lines), facts, tuple(goal), tuple(virtual), robot_wp, removal)
-
-
-def shortest_paths(path: dict[tuple[str, str], float]) -> bool:
-    """True when no route over two open paths is shorter than the direct open path (within
-    DETOUR_TOLERANCE), nor joins two waypoints that have none: a stop on the way never pays.
-    Two hops suffice: a longer route that paid would contain a two-hop one that does."""
-    out: dict[str, list[tuple[str, float]]] = {}
-    for (a, c), d in path.items():
-        out.setdefault(a, []).append((c, d))
-    for a, hops in out.items():
-        for c, d1 in hops:
-            for b, d2 in out.get(c, ()):
-                if b == a:
-                    continue
-                direct = path.get((a, b))
-                if direct is None or direct > d1 + d2 + DETOUR_TOLERANCE:
-                    return False
-    return True
 
 
 def _dist(a, b) -> float:
