@@ -36,7 +36,7 @@ def project_file(relative: str) -> Path:
 DOMAIN = project_file("domains/tidy.pddl")
 
 
-MISSION_ENGINE = "lama"  # tidyplan.engines.DEFAULT_ENGINE, without importing the planner stack
+MISSION_ENGINE = "lama"  # tidyplan.engines.DEFAULT_ENGINE (test_engines checks that they agree)
 
 
 @dataclass(frozen=True, slots=True)
