@@ -178,6 +178,6 @@ def test_a_signal_mid_search_stops_tidyplan_and_its_engine(signum, status, tmp_p
 
 def test_the_mission_plans_with_the_default_engine():
     from tidyplan.engines import DEFAULT_ENGINE
-    from tidyplan.mission import MISSION_ENGINE
+    from tidyplan.mission import Settings
 
-    assert MISSION_ENGINE == DEFAULT_ENGINE == "lama"
+    assert Settings().planner == DEFAULT_ENGINE == "lama"

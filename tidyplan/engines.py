@@ -128,35 +128,26 @@ def _anytime_until_deadline(planner, problem, budget: float):
     budget by up to 80 %. Here the results are read in a thread and the
     engine is killed at the deadline itself; UP's timeout stays as a backstop.
     """
-    results: list = []
-    failures: list[BaseException] = []
-    finished = threading.Event()
-
-    def consume() -> None:
-        try:
-            for result in planner.get_solutions(problem, timeout=budget + 1.0):
-                results.append(result)
-                if result.plan is not None and not result.plan.actions:
-                    _reap(planner)  # nothing beats the empty plan: stop searching
-
-        except BaseException as e:  # handed to the caller below
-            failures.append(e)
-        finally:
-            finished.set()
-
-    reader = threading.Thread(target=consume, daemon=True)
-    reader.start()
-    if not finished.wait(budget):
-        _reap(planner)  # the engine's output ends, and with it UP's generator
-        finished.wait(5.0)
-    if failures:
-        raise failures[0]
-    with_plan = [r for r in results if r.plan is not None]
-    if with_plan:
-        return with_plan[-1]
-    if results:
-        return results[-1]
-    return PlanGenerationResult(PlanGenerationResultStatus.TIMEOUT, None, getattr(planner, "name", "anytime"))
+    deadline = time.monotonic() + budget
+    changed = threading.Event()
+    search = _Search(planner, lambda p: p.get_solutions(problem, timeout=budget + 1.0), changed)
+    try:
+        while not search.ended.is_set():
+            found = search.best()
+            if found is not None and found.plan is not None and not found.plan.actions:
+                break  # nothing beats the empty plan: stop searching
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                break
+            changed.wait(remaining)
+            changed.clear()
+    finally:
+        _stop((planner, search))
+    if search.failure is not None:
+        raise search.failure
+    return search.best() or PlanGenerationResult(
+        PlanGenerationResultStatus.TIMEOUT, None, getattr(planner, "name", "anytime")
+    )
 
 
 class _FastDownward(FastDownwardPDDLPlanner):
@@ -225,13 +216,7 @@ def _race(problem, engine: Engine, budget: float):
             changed.wait(remaining)
             changed.clear()
     finally:
-        # Reap until both threads have ended: one may still be writing its files and start
-        # its engine only after a first kill (an interrupt early in the call).
-        stop = time.monotonic() + 5.0
-        while not (anytime.ended.is_set() and optimal.ended.is_set()) and time.monotonic() < stop:
-            _reap(anytime_planner)
-            _reap(optimal_planner)
-            time.sleep(0.02)
+        _stop((anytime_planner, anytime), (optimal_planner, optimal))
     last = anytime.best()
     if last is not None and last.plan is not None:
         return last
@@ -240,6 +225,17 @@ def _race(problem, engine: Engine, budget: float):
             raise search.failure
     # No plan: the anytime search's word (a refusal of axioms, say) before the optimal one's.
     return last or optimal.best() or PlanGenerationResult(PlanGenerationResultStatus.TIMEOUT, None, "lama-optimal")
+
+
+def _stop(*running) -> None:
+    """Stop each (planner, search): reap until every search thread has ended, since one may
+    still be writing its files and start its engine only after a first kill (an interrupt
+    early in the call)."""
+    stop = time.monotonic() + 5.0
+    while not all(search.ended.is_set() for _, search in running) and time.monotonic() < stop:
+        for planner, _ in running:
+            _reap(planner)
+        time.sleep(0.02)
 
 
 def _reap(planner) -> None:

@@ -20,7 +20,7 @@ from tidyplan.exec.symbolic import SymbolicWorld
 from tidyplan.exec.world import Rates
 from tidyplan.monitor.loop import LoopConfig, Mission
 from tidyplan.monitor.recovery import RecoveryConfig
-from tidyplan.planner import Status, plan
+from tidyplan.planner import DEFAULT_ENGINE, Status, plan
 from tidyplan.trace import TraceWriter
 
 RETRIES = 3  # budgets 1x, 3x, 9x
@@ -36,14 +36,11 @@ def project_file(relative: str) -> Path:
 DOMAIN = project_file("domains/tidy.pddl")
 
 
-MISSION_ENGINE = "lama"  # tidyplan.engines.DEFAULT_ENGINE (test_engines checks that they agree)
-
-
 @dataclass(frozen=True, slots=True)
 class Settings:
     strategy: str = "ofsm"
     seed: int = 0
-    planner: str = MISSION_ENGINE
+    planner: str = DEFAULT_ENGINE
     time_budget: float = 1.0
     min_probability: float = 1e-4
     rates: Rates = Rates()
