@@ -1,6 +1,6 @@
 """Plan cost against the exact optimum on 12-object tidy-up problems.
 
-    python bench/plan_quality.py [--seeds 10] [--planner lama] [--time-budget 1]
+    python bench/plan_quality.py [--seeds 10] [--planner lama-optimal] [--time-budget 1]
 
 Each seed makes a problem for domains/tidy.pddl in the WRS room with
 path-length move costs (bench/tidygen.py); its optimum comes from an
@@ -31,15 +31,23 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--first-seed", type=int, default=0)
     ap.add_argument("--items", type=int, default=12)
-    ap.add_argument("--planner", default="lama")
+    ap.add_argument("--planner", default="lama-optimal")
     ap.add_argument("--time-budget", type=float, default=1.0)
     ap.add_argument("--domain", default=str(ROOT / "domains" / "tidy.pddl"))
+    ap.add_argument(
+        "--no-shortest-paths",
+        action="store_true",
+        help="leave (shortest-paths) out of the problems: every move is open, to any waypoint",
+    )
     args = ap.parse_args()
     ratios, times = [], []
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(args.first_seed, args.first_seed + args.seeds):
             path = Path(tmp) / f"tidy-{seed}.pddl"
-            path.write_text(tidygen.generate(seed, args.items))
+            text = tidygen.generate(seed, args.items)
+            if args.no_shortest_paths:
+                text = text.replace("    (shortest-paths)\n", "")
+            path.write_text(text)
             domain, problem = read(args.domain, path)
             result = plan(domain, problem, planner=args.planner, time_budget=args.time_budget)
             best = tidygen.optimum(seed, args.items)

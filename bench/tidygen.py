@@ -118,6 +118,15 @@ def _closure(dist: Sequence[Sequence[float]]) -> list[list[float]]:
     return d
 
 
+def _no_detour_pays(dist: Sequence[Sequence[float]], tolerance: float = 0.02) -> bool:
+    """Every pair has a path no longer than any two-hop route (distances rounded to 1 cm)."""
+    n = len(dist)
+    return all(
+        dist[i][j] <= dist[i][k] + dist[k][j] + tolerance
+        for i, j, k in itertools.permutations(range(n), 3)
+    )
+
+
 @lru_cache(maxsize=32)
 def build(seed: int, n_items: int = 12) -> Instance:
     """Place items, choose waypoints and compute all-pairs path lengths; deterministic in seed."""
@@ -188,6 +197,8 @@ def generate(seed: int, n_items: int = 12) -> str:
         "    (= (total-cost) 0)",
         "    (robot-at wp-entrance) (hand-empty)",
     ]
+    if _no_detour_pays(inst.dist):
+        lines.append("    (shortest-paths)")  # tidy.pddl: moves go only where there is work
     for (name, cat, *_), g in zip(items, inst.grasp, strict=True):
         lines.append(f"    (item-at {name} {wp[g]}) (of-category {name} {cat})")
     for dep, (_y, cat) in DEPOSITS.items():

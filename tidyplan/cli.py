@@ -45,7 +45,7 @@ def _parser() -> argparse.ArgumentParser:
     pl.add_argument(
         "--planner",
         default=None,
-        help="engine: lama (default), lama-optimal, lama-first, optimal, "
+        help="engine: lama-optimal (default), lama, lama-first, optimal, "
         "or any unified-planning engine name",
     )
     pl.add_argument(

@@ -145,9 +145,9 @@ def _trace_path(folder: Path, stem: str) -> Path:
 
 def cmd_run(args) -> int:
     from tidyplan.mission import Settings, run  # the planner stack loads only when needed
-    from tidyplan.planner import DEFAULT_ENGINE
+    from tidyplan.engines import MISSION_ENGINE
 
-    planner = args.planner or DEFAULT_ENGINE
+    planner = args.planner or MISSION_ENGINE
     if args.gui and args.world != "pybullet":
         raise InputError("--gui: only the pybullet world has a window (leave out --world symbolic)")
     from tidyplan.engines import check_name

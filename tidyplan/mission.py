@@ -20,7 +20,8 @@ from tidyplan.exec.symbolic import SymbolicWorld
 from tidyplan.exec.world import Rates
 from tidyplan.monitor.loop import LoopConfig, Mission
 from tidyplan.monitor.recovery import RecoveryConfig
-from tidyplan.planner import DEFAULT_ENGINE, Status, plan
+from tidyplan.engines import MISSION_ENGINE
+from tidyplan.planner import Status, plan
 from tidyplan.trace import TraceWriter
 
 RETRIES = 3  # budgets 1x, 3x, 9x
@@ -40,7 +41,7 @@ DOMAIN = project_file("domains/tidy.pddl")
 class Settings:
     strategy: str = "ofsm"
     seed: int = 0
-    planner: str = DEFAULT_ENGINE
+    planner: str = MISSION_ENGINE
     time_budget: float = 1.0
     min_probability: float = 1e-4
     rates: Rates = Rates()

@@ -9,7 +9,8 @@ Facts, from the belief and the map (``tidyplan.exec.geometry``):
   waypoint) and that it is ``located``; tidied items are left out (nothing more to do with them);
 - unseen items as ``:virtual-objects`` with their category; ``unexplored`` viewpoints with
   ``p-item-near`` for ``assume-item-near``;
-- paths and their lengths, blocked paths and what blocks them, pose adjustments;
+- paths and their lengths, blocked paths and what blocks them, pose adjustments (never
+  ``(shortest-paths)``: how missions fare with it is not measured yet, docs/planner.md);
 - for every item that may need moving out of the way, the removal waypoint of Algorithm 1,
   computed from where that item is picked up (``tidyplan.removal``).
 """

@@ -14,6 +14,8 @@ What each extension becomes (DIALECT.md §2–3):
   a predicate both called `up`) are renamed so that unified-planning, whose
   elements share one namespace, can take them; `ActionInfo.name` and the kept
   object names carry plans back to the file's own names.
+- Static flags (predicates without parameters that no action changes) are
+  folded into the conditions (`tidyplan.pddl.static`).
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from ..errors import Diagnostic, PddlError
 from . import model as m
 from .check import COST
 from .either import compile_either
+from .static import fold
 
 EXTENSION_FLAGS = (":probabilities", ":assumptions", ":strata")
 
@@ -202,7 +205,7 @@ def _bind(row: dict[str, str], term_arg: str, value: str) -> bool:
 def compile_task(domain: m.Domain, problem: m.Problem, scale: int | None = None) -> CompiledTask:
     """The dialect task as plain PDDL with integer action costs."""
     source_domain, source_problem = domain, problem
-    domain, problem = compile_either(domain, problem)
+    domain, problem = fold(*compile_either(domain, problem))
     names = _unique_names(domain, problem)
     ren = _Renamer(names)
     reward = problem.goal_reward if problem.goal_reward is not None else DEFAULT_REWARD

@@ -1,0 +1,127 @@
+"""Fold static flags into the conditions before a planner sees them.
+
+A static flag is a predicate without parameters that no action (nor assumption)
+adds or deletes: its truth is the problem's :init for the whole plan. Each
+precondition and the goal are simplified with those truth values, and an action
+whose precondition becomes false is left out.
+
+Why: a domain may switch an encoding on and off with such a flag, as `tidy.pddl`
+does with `(shortest-paths)`. Left for Fast Downward, the `or` that tests the
+flag is split into several operators (and its `exists` into axioms) even where
+the flag is false, and that alone changes LAMA's plans; folded here, a problem
+without the flag compiles to exactly the domain without the switch.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from . import model as m
+
+FALSE = m.Or(())
+
+
+def static_flags(domain: m.Domain, problem: m.Problem) -> dict[str, bool]:
+    """Each static flag of the domain and its truth value in the problem."""
+    changed: set[str] = set()
+    for a in domain.actions:
+        _effect_predicates(a.effect, changed)
+    init = {atom.predicate for atom in problem.init if not atom.args}
+    return {
+        p.name: p.name in init
+        for p in domain.predicates
+        if not p.parameters and p.name not in changed
+    }
+
+
+def fold(domain: m.Domain, problem: m.Problem) -> tuple[m.Domain, m.Problem]:
+    """The domain and problem with every static flag replaced by its value."""
+    flags = static_flags(domain, problem)
+    if not flags:
+        return domain, problem
+    actions = []
+    for a in domain.actions:
+        pre = simplify(a.precondition, flags)
+        if pre is not False:
+            actions.append(replace(a, precondition=_formula(pre), effect=_effect(a.effect, flags)))
+    # the flags are gone from every formula: gone from the task too
+    domain = replace(
+        domain,
+        actions=tuple(actions),
+        predicates=tuple(p for p in domain.predicates if p.name not in flags),
+    )
+    problem = replace(
+        problem,
+        init=tuple(a for a in problem.init if a.args or a.predicate not in flags),
+        goal=_formula(simplify(problem.goal, flags)),
+    )
+    return domain, problem
+
+
+def _formula(value: m.Formula | bool) -> m.Formula:
+    if value is True:
+        return m.TRUE
+    return FALSE if value is False else value
+
+
+def simplify(f: m.Formula, flags: dict[str, bool]) -> m.Formula | bool:
+    """`f` with the flags' values put in; True or False where that decides it."""
+    if isinstance(f, m.Atom):
+        return flags[f.predicate] if not f.args and f.predicate in flags else f
+    if isinstance(f, m.Not):
+        part = simplify(f.part, flags)
+        return (not part) if isinstance(part, bool) else m.Not(part)
+    if isinstance(f, (m.And, m.Or)):
+        absorbing = isinstance(f, m.Or)  # True decides an `or`, False an `and`
+        parts = []
+        for p in f.parts:
+            value = simplify(p, flags)
+            if value is absorbing:
+                return absorbing
+            if value is not (not absorbing):
+                parts.append(value)
+        if not parts:
+            return not absorbing
+        return parts[0] if len(parts) == 1 else type(f)(tuple(parts))
+    if isinstance(f, m.Imply):
+        condition = simplify(f.condition, flags)
+        if condition is False:
+            return True
+        consequence = simplify(f.consequence, flags)
+        if condition is True or consequence is True:
+            return consequence
+        if consequence is False:
+            return m.Not(condition)
+        return m.Imply(condition, consequence)
+    body = simplify(f.body, flags)
+    if isinstance(f, m.Exists) and body is False:
+        return False
+    if isinstance(f, m.Forall) and body is True:
+        return True
+    # `exists` of a true body, `forall` of a false one: true or false as the type has objects
+    return replace(f, body=_formula(body) if isinstance(body, bool) else body)
+
+
+def _effect(e: m.Effect, flags: dict[str, bool]) -> m.Effect:
+    """`e` with its `when` conditions simplified: one that is false is left out."""
+    if isinstance(e, m.AndEffect):
+        return m.AndEffect(tuple(_effect(p, flags) for p in e.parts))
+    if isinstance(e, m.ForallEffect):
+        return replace(e, effect=_effect(e.effect, flags))
+    if isinstance(e, m.When):
+        condition = simplify(e.condition, flags)
+        if condition is False:
+            return m.NO_EFFECT
+        inner = _effect(e.effect, flags)
+        return inner if condition is True else m.When(condition, inner)
+    return e
+
+
+def _effect_predicates(e: m.Effect, out: set[str]) -> None:
+    if isinstance(e, m.Literal):
+        out.add(e.atom.predicate)
+    elif isinstance(e, m.AndEffect):
+        for p in e.parts:
+            _effect_predicates(p, out)
+    elif isinstance(e, (m.When, m.ForallEffect)):
+        _effect_predicates(e.effect, out)
