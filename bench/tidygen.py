@@ -122,8 +122,7 @@ def _no_detour_pays(dist: Sequence[Sequence[float]], tolerance: float = 0.02) ->
     """Every pair has a path no longer than any two-hop route (distances rounded to 1 cm)."""
     n = len(dist)
     return all(
-        dist[i][j] <= dist[i][k] + dist[k][j] + tolerance
-        for i, j, k in itertools.permutations(range(n), 3)
+        dist[i][j] <= dist[i][k] + dist[k][j] + tolerance for i, j, k in itertools.permutations(range(n), 3)
     )
 
 

@@ -45,8 +45,7 @@ def _parser() -> argparse.ArgumentParser:
     pl.add_argument(
         "--planner",
         default=None,
-        help="engine: lama-optimal (default), lama, lama-first, optimal, "
-        "or any unified-planning engine name",
+        help="engine: lama-optimal (default), lama, lama-first, optimal, or any unified-planning engine name",
     )
     pl.add_argument(
         "--time-budget",

@@ -144,8 +144,8 @@ def _trace_path(folder: Path, stem: str) -> Path:
 
 
 def cmd_run(args) -> int:
-    from tidyplan.mission import Settings, run  # the planner stack loads only when needed
     from tidyplan.engines import MISSION_ENGINE
+    from tidyplan.mission import Settings, run  # the planner stack loads only when needed
 
     planner = args.planner or MISSION_ENGINE
     if args.gui and args.world != "pybullet":

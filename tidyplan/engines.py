@@ -227,7 +227,8 @@ def _race(problem, engine: Engine, budget: float):
         if search.failure is not None:
             raise search.failure
     # No plan: the anytime search's word (a refusal of axioms, say) before the optimal one's.
-    return last or optimal.best() or PlanGenerationResult(PlanGenerationResultStatus.TIMEOUT, None, "lama-optimal")
+    timeout = PlanGenerationResult(PlanGenerationResultStatus.TIMEOUT, None, "lama-optimal")
+    return last or optimal.best() or timeout
 
 
 def _stop(*running) -> None:

@@ -14,13 +14,13 @@ from pathlib import Path
 from sim.scenario import Scenario
 from sim.scenario_file import load
 from tidyplan.belief import Belief
+from tidyplan.engines import MISSION_ENGINE
 from tidyplan.exec.bindings import MonitoredExecutor
 from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.symbolic import SymbolicWorld
 from tidyplan.exec.world import Rates
 from tidyplan.monitor.loop import LoopConfig, Mission
 from tidyplan.monitor.recovery import RecoveryConfig
-from tidyplan.engines import MISSION_ENGINE
 from tidyplan.planner import Status, plan
 from tidyplan.trace import TraceWriter
 

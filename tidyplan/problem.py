@@ -10,7 +10,7 @@ Facts, from the belief and the map (``tidyplan.exec.geometry``):
 - unseen items as ``:virtual-objects`` with their category; ``unexplored`` viewpoints with
   ``p-item-near`` for ``assume-item-near``;
 - paths and their lengths, blocked paths and what blocks them, pose adjustments (never
-  ``(shortest-paths)``: how missions fare with it is not measured yet, docs/planner.md);
+  ``(shortest-paths)``: with it cases I and II failed, docs/planner.md);
 - for every item that may need moving out of the way, the removal waypoint of Algorithm 1,
   computed from where that item is picked up (``tidyplan.removal``).
 """

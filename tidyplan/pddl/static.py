@@ -27,11 +27,7 @@ def static_flags(domain: m.Domain, problem: m.Problem) -> dict[str, bool]:
     for a in domain.actions:
         _effect_predicates(a.effect, changed)
     init = {atom.predicate for atom in problem.init if not atom.args}
-    return {
-        p.name: p.name in init
-        for p in domain.predicates
-        if not p.parameters and p.name not in changed
-    }
+    return {p.name: p.name in init for p in domain.predicates if not p.parameters and p.name not in changed}
 
 
 def fold(domain: m.Domain, problem: m.Problem) -> tuple[m.Domain, m.Problem]:
