@@ -55,7 +55,7 @@ def every_move_open(tmp_path):
 
 @pytest.mark.slow
 def test_the_default_plans_the_optimum_of_a_12_object_tidy_up(twelve_objects):
-    # docs/planner.md: the optimal search ends well within the 1 s budget here (0.6 s measured);
+    # docs/planner.md: the optimal search ends well within the 1 s budget here (0.3 s measured);
     # a budget of 10 s keeps a loaded machine from failing this, which is not a timing test
     result = plan(*twelve_objects, time_budget=10.0)
     assert result.engine == DEFAULT_ENGINE == "lama-optimal"

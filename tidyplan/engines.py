@@ -70,15 +70,16 @@ ENGINES: dict[str, Engine] = {
     "optimal": Engine("fast-downward-opt", about="Fast Downward A* with LM-cut: cost-optimal, can be slow"),
 }
 DEFAULT_ENGINE = "lama-optimal"
-# A mission's problems leave (shortest-paths) out (docs/planner.md): every move is open, the
-# optimal search needs about 2 s there and would only take the simulation's core within 1 s.
+# A mission's problems leave (shortest-paths) out (docs/planner.md): with every move open the
+# optimal search needs about 2 s, so within the 1 s budget it would take the simulation's core
+# for nothing.
 MISSION_ENGINE = "lama"
 # Uniform-cost search (Dijkstra: eager search ordered by g, no reopening): cost-
-# optimal, takes axioms and conditional effects. On the tidy domain's 12-object
-# problems LM-cut, hmax, iPDB and Cartesian abstractions expanded as many states
-# as no heuristic at all (the optimum is set by the order of visits, which
-# relaxations do not see), and FD's astar(blind()) was 6 times slower than this
-# over the same 97,789 states (docs/planner.md).
+# optimal, takes axioms and conditional effects. On 12-object tidy-ups LM-cut,
+# hmax, iPDB and Cartesian abstractions expanded as many states as no heuristic
+# at all (the optimum is set by the order of visits, which relaxations do not
+# see), and FD's astar(blind()) was 2 to 6 times slower than this over the same
+# states (docs/planner.md).
 OPTIMAL_RACER = "eager(single(g()),reopen_closed=false)"
 # Searches that accept axioms (an `exists` goal, a `forall` precondition):
 AXIOM_FALLBACK = "lama-first"
