@@ -193,3 +193,21 @@ def test_the_mission_plans_with_lama_and_tidyplan_plan_with_lama_optimal():
 
     assert Settings().planner == MISSION_ENGINE == "lama"
     assert DEFAULT_ENGINE == "lama-optimal"
+
+
+def test_an_exception_in_an_engine_thread_is_kept_not_printed(capsys):
+    # unified-planning's anytime planners search in their own thread; what fails there must reach
+    # the caller as one message, not as a traceback on stderr
+    import threading
+
+    from tidyplan.engines import _thread_errors
+
+    caught: list[BaseException] = []
+    before = threading.excepthook
+    with _thread_errors(caught):
+        t = threading.Thread(target=lambda: 1 / 0)
+        t.start()
+        t.join()
+    assert [type(e) for e in caught] == [ZeroDivisionError]
+    assert "Traceback" not in capsys.readouterr().err
+    assert threading.excepthook is before

@@ -92,18 +92,46 @@ def engine_names() -> list[str]:
 def run(up_task, engine: Engine, budget: float):
     """Run one engine on a UP problem for at most `budget` seconds."""
     factory = up_task.environment.factory
+    caught: list[BaseException] = []
     try:
-        with warnings.catch_warnings(), _private_directory():
+        with warnings.catch_warnings(), _private_directory(), _thread_errors(caught):
             # UP warns when it cannot tell whether an engine supports a feature;
             # the engine's own exit status says so more precisely.
             warnings.simplefilter("ignore", UserWarning)
-            return _run_engine(factory, up_task, engine, budget)
+            result = _run_engine(factory, up_task, engine, budget)
+        if caught and result.plan is None:
+            raise caught[0]
+        return result
+    except PlannerError:
+        raise
     except UPException as e:
         known = ", ".join(engine_names() + up_planner_names(factory))
         reason = str(e).strip() or "no such engine"
         raise PlannerError(
             f"planner '{engine.up_name}' cannot be used: {reason}; planners here: {known}"
         ) from None
+    except Exception as e:  # from an engine's thread (see _thread_errors)
+        raise PlannerError(f"planner '{engine.up_name}' failed: {type(e).__name__}: {e}") from None
+
+
+@contextlib.contextmanager
+def _thread_errors(caught: list[BaseException]):
+    """unified-planning's anytime planners search in a thread of their own, where an exception
+    (its PDDL writer refusing a problem, say) would print a traceback; it is kept for the caller
+    instead, who reports it when no plan came."""
+    previous = threading.excepthook
+
+    def keep(args) -> None:
+        if isinstance(args.exc_value, Exception):
+            caught.append(args.exc_value)
+        else:
+            previous(args)
+
+    threading.excepthook = keep
+    try:
+        yield
+    finally:
+        threading.excepthook = previous
 
 
 def _run_engine(factory, up_task, engine: Engine, budget: float):

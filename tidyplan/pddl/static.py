@@ -18,8 +18,6 @@ from dataclasses import replace
 
 from . import model as m
 
-FALSE = m.Or(())
-
 
 def static_flags(domain: m.Domain, problem: m.Problem) -> dict[str, bool]:
     """Each static flag of the domain and its truth value in the problem."""
@@ -31,33 +29,40 @@ def static_flags(domain: m.Domain, problem: m.Problem) -> dict[str, bool]:
 
 
 def fold(domain: m.Domain, problem: m.Problem) -> tuple[m.Domain, m.Problem]:
-    """The domain and problem with every static flag replaced by its value."""
+    """The domain and problem with every static flag replaced by its value, and the conditions
+    simplified (an empty `or` is false, an empty `and` true, as written or as left by a flag)."""
     flags = static_flags(domain, problem)
-    if not flags:
-        return domain, problem
     actions = []
     for a in domain.actions:
         pre = simplify(a.precondition, flags)
         if pre is not False:
             actions.append(replace(a, precondition=_formula(pre), effect=_effect(a.effect, flags)))
-    # the flags are gone from every formula: gone from the task too
-    domain = replace(
-        domain,
-        actions=tuple(actions),
-        predicates=tuple(p for p in domain.predicates if p.name not in flags),
-    )
+    goal = simplify(problem.goal, flags)
+    used: set[str] = set()
+    for f in [problem.goal if goal is False else _formula(goal)] + [a.precondition for a in actions]:
+        _formula_predicates(f, used)
+    for a in actions:
+        _effect_predicates(a.effect, used, conditions=True)
+    gone = set(flags) - used  # a flag left only under a quantifier stays declared
+    predicates = tuple(p for p in domain.predicates if p.name not in gone)
+    if goal is False:
+        # PDDL cannot write `false`: a goal no action adds says the same to any planner
+        name = "impossible-goal"
+        while domain.predicate(name) is not None:
+            name += "-"
+        predicates += (m.Predicate(name, ()),)
+        goal = m.Atom(name, ())
+    domain = replace(domain, actions=tuple(actions), predicates=predicates)
     problem = replace(
         problem,
-        init=tuple(a for a in problem.init if a.args or a.predicate not in flags),
-        goal=_formula(simplify(problem.goal, flags)),
+        init=tuple(a for a in problem.init if a.args or a.predicate not in gone),
+        goal=_formula(goal),
     )
     return domain, problem
 
 
 def _formula(value: m.Formula | bool) -> m.Formula:
-    if value is True:
-        return m.TRUE
-    return FALSE if value is False else value
+    return m.TRUE if value is True else value  # never False: callers leave that out
 
 
 def simplify(f: m.Formula, flags: dict[str, bool]) -> m.Formula | bool:
@@ -78,7 +83,7 @@ def simplify(f: m.Formula, flags: dict[str, bool]) -> m.Formula | bool:
                 parts.append(value)
         if not parts:
             return not absorbing
-        return parts[0] if len(parts) == 1 else type(f)(tuple(parts))
+        return type(f)(tuple(parts))
     if isinstance(f, m.Imply):
         condition = simplify(f.condition, flags)
         if condition is False:
@@ -94,8 +99,9 @@ def simplify(f: m.Formula, flags: dict[str, bool]) -> m.Formula | bool:
         return False
     if isinstance(f, m.Forall) and body is True:
         return True
-    # `exists` of a true body, `forall` of a false one: true or false as the type has objects
-    return replace(f, body=_formula(body) if isinstance(body, bool) else body)
+    # `exists` of a true body, `forall` of a false one: true or false as the type has objects,
+    # and PDDL has no `true` or `false` to write in the body: left as it was
+    return f if isinstance(body, bool) else replace(f, body=body)
 
 
 def _effect(e: m.Effect, flags: dict[str, bool]) -> m.Effect:
@@ -113,11 +119,29 @@ def _effect(e: m.Effect, flags: dict[str, bool]) -> m.Effect:
     return e
 
 
-def _effect_predicates(e: m.Effect, out: set[str]) -> None:
+def _effect_predicates(e: m.Effect, out: set[str], conditions: bool = False) -> None:
+    """The predicates `e` changes; with `conditions`, those its `when` tests too."""
     if isinstance(e, m.Literal):
         out.add(e.atom.predicate)
     elif isinstance(e, m.AndEffect):
         for p in e.parts:
-            _effect_predicates(p, out)
+            _effect_predicates(p, out, conditions)
     elif isinstance(e, (m.When, m.ForallEffect)):
-        _effect_predicates(e.effect, out)
+        if conditions and isinstance(e, m.When):
+            _formula_predicates(e.condition, out)
+        _effect_predicates(e.effect, out, conditions)
+
+
+def _formula_predicates(f: m.Formula, out: set[str]) -> None:
+    if isinstance(f, m.Atom):
+        out.add(f.predicate)
+    elif isinstance(f, (m.And, m.Or)):
+        for p in f.parts:
+            _formula_predicates(p, out)
+    elif isinstance(f, m.Not):
+        _formula_predicates(f.part, out)
+    elif isinstance(f, m.Imply):
+        _formula_predicates(f.condition, out)
+        _formula_predicates(f.consequence, out)
+    else:
+        _formula_predicates(f.body, out)
