@@ -2,8 +2,10 @@
 
 A static flag is a predicate without parameters that no action (nor assumption)
 adds or deletes: its truth is the problem's :init for the whole plan. Each
-precondition and the goal are simplified with those truth values, and an action
-whose precondition becomes false is left out.
+precondition, `when` condition and the goal is simplified with those truth values
+(an empty `or` is false, an empty `and` true, flags or not); an action whose
+precondition becomes false is left out, and a goal that does becomes an atom no
+action adds (PDDL cannot write `false`).
 
 Why: a domain may switch an encoding on and off with such a flag, as `tidy.pddl`
 does with `(shortest-paths)`. Left for Fast Downward, the `or` that tests the
