@@ -135,15 +135,8 @@ def _effect_predicates(e: m.Effect, out: set[str], conditions: bool = False) -> 
 
 
 def _formula_predicates(f: m.Formula, out: set[str]) -> None:
-    if isinstance(f, m.Atom):
-        out.add(f.predicate)
-    elif isinstance(f, (m.And, m.Or)):
-        for p in f.parts:
-            _formula_predicates(p, out)
-    elif isinstance(f, m.Not):
-        _formula_predicates(f.part, out)
-    elif isinstance(f, m.Imply):
-        _formula_predicates(f.condition, out)
-        _formula_predicates(f.consequence, out)
-    else:
-        _formula_predicates(f.body, out)
+    def note(atom: m.Atom) -> m.Atom:
+        out.add(atom.predicate)
+        return atom
+
+    m.map_formula(f, note, lambda q, body: q)
