@@ -12,7 +12,7 @@ furniture it stands on, so ``Scenario.item_base_z`` resolves it and one source o
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from sim.grid import Box
 
@@ -141,6 +141,17 @@ class Scenario:
     viewpoints: tuple[Viewpoint, ...]
     expect: Expect
     path: str
+    # What the robot is told about the items: (category, count) pairs, or None when it is told
+    # nothing and must explore. Never derived from ``items``: those are the truth.
+    prior: tuple[tuple[str, int], ...] | None = None
+
+    def prior_counts(self) -> dict[str, int] | None:
+        """The declared prior as category -> count, or None when the scenario declares none."""
+        return None if self.prior is None else dict(self.prior)
+
+    def without_items(self) -> Scenario:
+        """The scenario as the robot may know it: the static room and the prior, no true items."""
+        return replace(self, items=(), expect=Expect())
 
     def furniture_named(self, name: str) -> Furniture:
         """The furniture piece called ``name``; KeyError if there is none."""

@@ -234,7 +234,7 @@ class _Reader:
 
     # ------------------------------------------------------------------ the document
     def scenario(self, doc: dict[str, Any]) -> Scenario:
-        self.keys(doc, "", _TOP + _ARRAYS + ("expect",))
+        self.keys(doc, "", _TOP + _ARRAYS + ("expect", "prior"))
         present, schema = self.value(doc, "", "schema", _REQUIRED)
         if present and (isinstance(schema, bool) or schema != SCHEMA):
             # another version's keys would only produce noise: this is the one message
@@ -279,10 +279,12 @@ class _Reader:
         furniture = {o.name: o for _, _, o in parsed["furniture"] if o is not None}
         self._cross_check(parsed, furniture)
         expect = self._expect(doc, parsed)
+        prior = self._prior(doc, parsed)
         if self.messages:
             raise ScenarioError(self.messages)
         head = (name, title, description, bounds, entrance, heading, robot, sensing)
-        return Scenario(*head, *(tuple(o for _, _, o in parsed[k]) for k in _ARRAYS), expect, self.path)
+        arrays = (tuple(o for _, _, o in parsed[k]) for k in _ARRAYS)
+        return Scenario(*head, *arrays, expect, self.path, prior)
 
     def _furniture(self, where: str, t: dict, bounds: tuple | None) -> Furniture | None:
         self.keys(t, where, ("name", "center", "size", "height", "kind"))
@@ -373,6 +375,33 @@ class _Reader:
                     self.error(f"expect.{key}[{i}]", f"{n!r}: {what}")
             values[key] = tuple(v)
         return Expect(**values)
+
+
+    def _prior(self, doc: dict, parsed: dict[str, list]) -> tuple[tuple[str, int], ...] | None:
+        """[prior] count = {category = n, ...}: what the robot is told the room holds."""
+        if "prior" not in doc:
+            return None
+        t = self.table(doc, "prior", required=False)
+        if t is None:
+            return None
+        self.keys(t, "prior", ("count",))
+        count = t.get("count")
+        if not isinstance(count, dict) or not count:
+            self.error("prior.count", f"must be a table of category = count, got {count!r}")
+            return None
+        accepted = {t.get("category") for _, t, _ in parsed["deposit"]}
+        out = []
+        for cat, n in count.items():
+            where = f"prior.count.{cat}"
+            if not NAME_RE.fullmatch(cat):
+                self.error(where, f"{cat!r} must match [a-z][a-z0-9_-]* (it becomes a PDDL name)")
+            elif cat not in accepted:
+                self.error(where, f"no deposit accepts category {cat!r}")
+            elif isinstance(n, bool) or not isinstance(n, int) or n < 0:
+                self.error(where, f"must be a whole number >= 0, got {n!r}")
+            else:
+                out.append((cat, n))
+        return tuple(sorted(out))
 
 
 def _overlap(a: Box, b: Box) -> bool:
