@@ -262,3 +262,23 @@ def test_not_utf8(tmp_path):
     with pytest.raises(ScenarioError) as info:
         load(path)
     assert info.value.messages == [f"{path}: not UTF-8 text (bad byte at offset 23)"]
+
+
+def test_prior_is_what_the_robot_is_told_and_never_the_items():
+    told = loads(FULL + '\n[prior]\ncount = { food = 5 }\n', "s.toml")
+    assert told.prior_counts() == {"food": 5}  # two food items in the room: the prior is not a count of them
+    assert loads(FULL, "s.toml").prior_counts() is None
+    blind = told.without_items()
+    assert blind.items == () and blind.prior == told.prior and blind.furniture == told.furniture
+
+
+def test_prior_messages():
+    assert errors(FULL + "\n[prior]\ncount = { tool = 1, food = -1, Food = 2 }\n") == [
+        "s.toml: prior.count.tool: no deposit accepts category 'tool'",
+        "s.toml: prior.count.food: must be a whole number >= 0, got -1",
+        "s.toml: prior.count.Food: 'Food' must match [a-z][a-z0-9_-]* (it becomes a PDDL name)",
+    ]
+    assert errors(FULL + "\n[prior]\ntotal = 3\n") == [
+        "s.toml: prior.total: unknown key (known: count)",
+        "s.toml: prior.count: must be a table of category = count, got None",
+    ]
