@@ -132,7 +132,7 @@ KNOWN_ITEM = "category, name, on, position, size"
     ("old", "new", "message"),
     [
         ('name = "mini"', 'name = "mini"\ncolour = 1', "colour: unknown key (known: deposit, "
-         "description, expect, furniture, item, name, robot, room, schema, sensing, title, viewpoint)"),
+         "description, expect, furniture, item, name, prior, robot, room, schema, sensing, title, viewpoint)"),
         ('on = "table"', 'on = "table"\ncolour = "red"',
          f'item "apple".colour: unknown key (known: {KNOWN_ITEM})'),
         ("speed = 0.3", "speed = 0.3\nwheels = 3",
