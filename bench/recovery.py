@@ -5,8 +5,9 @@
                              [--world symbolic|pybullet] [--jobs 2] [--out DIR]
 
 Runs O-FSM on each scenario for each seed, in the symbolic world (default) or the pybullet one,
-with the faults given (the issue's default set; ``--faults ""`` or ``none``: no injected faults,
-the world's own rates, as ``tidyplan run`` without ``--faults``). The scenarios are the cases of
+with the faults given (the issue's default set; ``--faults ""`` or ``none``: none injected, only
+the world's baseline, as ``tidyplan run`` without ``--faults``: a grasp fails 5 %, a placement 2 %,
+perception errs at the scenario's rates). The scenarios are the cases of
 problems/ named by ``--cases``, or any scenario files given to ``--scenarios`` (the rooms
 bench/wrs.py generates, say), each labelled by its file name without ``.toml``. Each mission runs
 in a fresh process of its own (``--jobs`` at a time): a pybullet server or a crash stays there.
