@@ -49,6 +49,7 @@ import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
+from string import ascii_lowercase
 
 from sim.grid import Box
 from sim.scenario import FLOOR, Expect, Furniture, Item, Scenario, ScenarioError
@@ -149,7 +150,8 @@ def generate(
 
 def _room(rng, zones, furniture, bounds, placed, keep_out) -> list[Item]:
     """One room's objects: the zones' places drawn in order, then the categories shuffled over them
-    (PER_ROOM of each) and numbered after those of the same category already ``placed``."""
+    (PER_ROOM of each), lettered after those of the same category already ``placed``: food-a,
+    food-b, ..., never like the belief's own names for what it sees (food-1, food-2, ...)."""
     shapes: list[tuple[float, float, float, float, float, str]] = []
     others = [(i.x, i.y) for i in placed]
     pieces = {f.name: f for f in furniture}
@@ -165,7 +167,7 @@ def _room(rng, zones, furniture, bounds, placed, keep_out) -> list[Item]:
     items = []
     for cat, (x, y, sx, sy, sz, on) in zip(categories, shapes, strict=True):
         seen[cat] += 1
-        items.append(Item(f"{cat}-{seen[cat]}", cat, x, y, on, sx, sy, sz))
+        items.append(Item(f"{cat}-{ascii_lowercase[seen[cat] - 1]}", cat, x, y, on, sx, sy, sz))
     return items
 
 

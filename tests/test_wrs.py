@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 import sys
 from collections import Counter
 from pathlib import Path
@@ -71,6 +72,8 @@ def test_three_of_each_category_per_room_and_the_prior_says_so(rooms, key):
     room1 = [i for i in s.items if i.x < 0.5]
     assert Counter(i.category for i in room1) == {c: 3 for c in CATEGORIES}
     assert s.expect.unobservable_items == () and s.expect.unreachable_items == ()
+    # lettered, never like the belief's names for what it sees (food-1, ...)
+    assert all(re.fullmatch(r"(food|kitchen|tool|task)-[a-f]", i.name) for i in s.items)
 
 
 @pytest.mark.parametrize("key", _cases())
