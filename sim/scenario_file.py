@@ -376,7 +376,6 @@ class _Reader:
             values[key] = tuple(v)
         return Expect(**values)
 
-
     def _prior(self, doc: dict, parsed: dict[str, list]) -> tuple[tuple[str, int], ...] | None:
         """[prior] count = {category = n, ...}: what the robot is told the room holds."""
         if "prior" not in doc:

@@ -22,6 +22,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Protocol
 
+import numpy as np
+
 from sim.scenario import Furniture, Item, Scenario
 
 Point3 = tuple[float, float, float]
@@ -94,6 +96,43 @@ def visible(
     if not range_min <= math.dist(camera, target) <= range_max:
         return False
     return not any(segment_hits_box(camera, target, b) for b in occluders)
+
+
+def visible_points(
+    camera: Point3,
+    targets: np.ndarray,
+    occluders: Sequence[Box3],
+    support: Sequence[str],
+    *,
+    range_min: float,
+    range_max: float,
+) -> np.ndarray:
+    """``visible`` for many targets at once (an (N, 3) array): a boolean array, True where the
+    target is in range and no occluder meets the segment from the camera. ``support[n]`` names the
+    box target n stands on, which does not occlude it. The same slab test as
+    ``segment_hits_box``, on arrays: the belief asks it of a thousand placement points per pose
+    (21 ms a pose in plain floats, for case I's 1201 points)."""
+    p = np.asarray(camera, dtype=float)
+    d = targets - p  # (N, 3)
+    dist = np.linalg.norm(d, axis=1)
+    seen = (dist >= range_min) & (dist <= range_max)
+    names = np.asarray(support, dtype=object)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = 1.0 / d
+    parallel = d == 0.0
+    for box in occluders:
+        lo = np.array((box.x0, box.y0, box.z0)) - p
+        hi = np.array((box.x1, box.y1, box.z1)) - p
+        with np.errstate(invalid="ignore"):
+            ta, tb = lo * inv, hi * inv
+        t_near = np.where(parallel, -np.inf, np.minimum(ta, tb))
+        t_far = np.where(parallel, np.inf, np.maximum(ta, tb))
+        outside = parallel & ((lo > 0.0) | (hi < 0.0))  # parallel to a slab and outside it
+        t0 = np.maximum(t_near.max(axis=1), 0.0)
+        t1 = np.minimum(t_far.min(axis=1), 1.0)
+        hit = (t0 <= t1) & ~outside.any(axis=1) & (names != box.name)
+        seen &= ~hit
+    return seen
 
 
 def in_field_of_view(

@@ -46,8 +46,11 @@ approach = [0.75, 1.5]
 """
 
 
-def _scenario(name: str, items: list[tuple], extra: str = ""):
+def _scenario(name: str, items: list[tuple], extra: str = "", prior: bool = True):
+    """The room with these toys; the robot is told how many there are unless ``prior`` is False."""
     text = ROOM.format(name=name) + extra
+    if prior:
+        text += f"[prior]\ncount = {{ toy = {len(items)} }}\n"
     for item, x, y, *size in items:
         text += f'[[item]]\nname = "{item}"\ncategory = "toy"\nposition = [{x}, {y}]\n'
         if size:

@@ -138,7 +138,9 @@ def test_an_item_the_arm_cannot_place_as_held_is_put_down_and_taken_again(tmp_pa
         for e in events
         if e["kind"] == "unit" and e["step"] == "do" and e["ok"] and e["unit"] != "look"
     ]
-    assert done[-4:] == [("put_down", 1), ("adjust_base", 1), ("grasp", 1), ("place", 0)]
+    placed = len(done) - done[::-1].index(("place", 0))  # then the deposit is looked into
+    assert done[placed - 4 : placed] == [("put_down", 1), ("adjust_base", 1), ("grasp", 1), ("place", 0)]
+    assert [e["confirmed"] for e in events if e["kind"] == "inspect_deposit"] == [["toy-1"]]
     # A put-down to take it again is no removal (Algorithm 1): nothing to move back to.
     assert not any(e["kind"] == "plan" and e["stratum"] == 3 for e in events)
 

@@ -5,11 +5,16 @@ and bridge the gap with assumptions over virtual objects. For the tidy-up room t
 
 - known items: seen, with a category and a believed place (floor, furniture top, the gripper,
   or a deposit once delivered);
-- unseen items: the task says how many of each category the room holds (12 = 4 x 3 in the
-  O-FSM cases), so every missing one is a virtual object of a known category;
+- unseen items: what the scenario's ``[prior]`` tells the robot (12 = 4 x 3 in the O-FSM
+  cases), so every missing one is a virtual object of a known category; told nothing, the robot
+  assumes one more item of each deposit's category while some of the room is still unseen
+  (docs/scenario.md). The true items are never read: the belief is built from the scenario
+  without them (``Scenario.without_items``);
 - where an unseen item may be: the placement points (floor and table tops) nobody has seen yet.
   A viewpoint's chance of revealing an unseen item is the share of those points it sees, under
-  a uniform prior (``p_item_near``);
+  a uniform prior (``p_item_near``). Viewpoints are added from the map where the scenario's do
+  not cover the room (``tidyplan.viewpoints``), and more, closer ones in a new round of
+  exploration when expected items were not found;
 - what the robot did: waypoints reached (Algorithm 1 needs them), looks taken, moves that
   found their way blocked.
 
@@ -27,7 +32,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sim.scenario import Scenario
-from sim.visibility import Box3, visible
+from sim.visibility import Box3, visible, visible_points
+from tidyplan import viewpoints
 from tidyplan.exec.geometry import ENTRANCE, MapFacts, Placed, RoomMap
 
 Point = tuple[float, float]
@@ -38,6 +44,9 @@ FORGET_AFTER = 3  # looks in a row that should have seen an item and did not: it
 # (at a false-negative rate of 0.2, three misses in a row of a real item happen 1 time in 125)
 UNEXPLORED_SHARE = 0.02  # a viewpoint that would reveal less of the unseen space is explored
 POINT_SPACING = 0.10  # m between placement points
+LOST_RADIUS = 1.0  # m around where a lost item was (fell, knocked, not found) it is looked for again
+EXPLORATION_ROUNDS = 3  # rounds of exploration after the first, each from closer viewpoints
+ROUND_STEP = 0.6  # m: each new round's viewpoints see this much less far (at least 1.5 m)
 
 
 @dataclass(slots=True)
@@ -90,9 +99,12 @@ class Belief:
     to the planner are computed from it, never stored in it."""
 
     def __init__(self, scenario: Scenario, room: RoomMap) -> None:
-        self.scenario = scenario
+        self.scenario = scenario.without_items()  # the robot is never told the true items
         self.room = room
-        self.expected = Counter(i.category for i in scenario.items)
+        self.prior = scenario.prior_counts()  # None: told nothing, explore the whole room
+        told = self.prior if self.prior is not None else {d.category for d in scenario.deposits}
+        self.categories = sorted(told)
+        self.rounds = 0  # rounds of exploration after the first
         self.items: dict[str, Known] = {}
         self.robot: Point = room.entrance
         self.robot_wp = ENTRANCE  # the waypoint the robot last reached: its name for the planner
@@ -107,32 +119,32 @@ class Belief:
         self._forgotten: dict[str, Known] = {}  # seen again near where it was: same name
         self._occluders = [Box3.from_furniture(f) for f in scenario.furniture]
         self.points, self._support = _placement_points(scenario)
+        self._targets = np.array(self.points, dtype=float).reshape(-1, 3)
         self.seen = np.zeros(len(self.points), dtype=bool)
-        self._view_cache: dict[Point, np.ndarray] = {}
+        self._view_cache: dict[tuple, np.ndarray] = {}
         self._facts: tuple[tuple, MapFacts] | None = None
+        self.generated: list[str] = self._add_viewpoints(scenario.sensing.range_max)
 
     # ------------------------------------------------------------------ what is (not) known
     def virtual(self) -> list[tuple[str, str]]:
-        """(name, category) of each item the room should hold and nobody has seen: the virtual
-        objects of the next problem, named by category and number."""
+        """(name, category) of each item the room may still hold that nobody has seen: the
+        virtual objects of the next problem, named by category and number. With a prior, those it
+        names beyond the items seen; without one, one of each category while some of the room is
+        unseen (``explorable``)."""
+        if self.prior is None:
+            return [(f"unseen-{cat}-1", cat) for cat in self.categories] if self.explorable() else []
         have = Counter(k.category for k in self.items.values())
         out = []
-        for cat in sorted(self.expected):
-            out += [(f"unseen-{cat}-{n + 1}", cat) for n in range(max(0, self.expected[cat] - have[cat]))]
+        for cat in self.categories:
+            out += [(f"unseen-{cat}-{n + 1}", cat) for n in range(max(0, self.prior[cat] - have[cat]))]
         return out
+
+    def explorable(self) -> bool:
+        """Whether some viewpoint nobody has looked from would reveal unseen space."""
+        return bool(self.p_item_near(self.facts()))
 
     def untidied(self) -> list[Known]:
         return sorted((k for k in self.items.values() if k.state != "tidied"), key=lambda k: k.name)
-
-    def surplus(self) -> list[str]:
-        """Untidied items of a category whose every expected item is tidied already: false
-        detections, for the room holds no more of that category."""
-        done = Counter(k.category for k in self.items.values() if k.state == "tidied")
-        return [
-            k.name
-            for k in self.untidied()
-            if k.state == "placed" and done[k.category] >= self.expected[k.category]
-        ]
 
     def placed(self) -> list[Placed]:
         return [k.placed() for k in self.untidied() if k.state == "placed"]
@@ -145,9 +157,10 @@ class Belief:
         facts = self.room.facts(self.placed(), robot=(self.robot_wp, self.robot), sticky=self.sticky)
         for item, wp in facts.grasp.items():
             self.sticky[item] = facts.points[wp]
-        for a, b in list(facts.path):
-            if (facts.points[a], facts.points[b]) in self.blocked_moves:
-                del facts.path[(a, b)]  # a move found this way blocked: the grid is wrong here
+        for table in (facts.path, facts.adjust):
+            for a, b in list(table):
+                if (facts.points[a], facts.points[b]) in self.blocked_moves:
+                    del table[(a, b)]  # a move found this way blocked: the grid is wrong here
         self._facts = (self._facts_key(), facts)
         return facts
 
@@ -181,6 +194,49 @@ class Belief:
         self.seen[:] = False
         self.looked_from.clear()
         self.scene_changed = False
+
+    def explore_again(self) -> list[str] | None:
+        """A new round of exploration, when the prior names items nobody has found and the whole
+        room has been seen: look again from everywhere (a look misses a visible item at the
+        false-negative rate), and from new viewpoints that see less far, so closer to every
+        place. Returns the viewpoints added, None when the rounds are used up."""
+        if self.rounds >= EXPLORATION_ROUNDS:
+            return None
+        self.rounds += 1
+        self.reset_exploration()
+        s = self.scenario.sensing
+        return self._add_viewpoints(max(s.range_min + 0.7, s.range_max - ROUND_STEP * self.rounds))
+
+    def _add_viewpoints(self, reach: float) -> list[str]:
+        """Viewpoints from the map for what the existing ones (and the entrance) do not show
+        within ``reach`` m; registered with the room map so that the planner sees them."""
+        kinds = self.room.fixed_kind
+        fixed = [q for n, q in self.room.fixed.items() if kinds[n] in ("viewpoint", "entrance")]
+        covered = np.zeros(len(self.points), dtype=bool)
+        for q in fixed:
+            covered |= self._view(q, reach)
+        cells = self.room.grid(()).free_cells(reachable_from=self.room.entrance)
+        new = viewpoints.cover(viewpoints.lattice(cells), lambda q: self._view(q, reach), covered)
+        names = []
+        for q in new:
+            name = f"vp-map-{sum(k == 'viewpoint' for k in self.room.fixed_kind.values()) + 1}"
+            self.room.add_viewpoint(name, q)
+            names.append(name)
+        self._facts = None
+        return names
+
+    def unsee(self, near: Point, radius: float = LOST_RADIUS) -> None:
+        """Mark the placement points within ``radius`` of ``near`` unseen, and reopen the viewpoints
+        that show them: an item was lost there (it fell, was knocked, or was not where believed),
+        so that is where it is looked for."""
+        pts = self._targets[:, :2]
+        region = np.hypot(pts[:, 0] - near[0], pts[:, 1] - near[1]) <= radius
+        if not region.any():
+            return
+        self.seen &= ~region
+        for name in list(self.looked_from):
+            if name in self.room.fixed and (self._view(self.room.fixed[name]) & region).any():
+                self.looked_from.discard(name)
 
     # ------------------------------------------------------------------ updates
     def at(self, point: Point, waypoint: str) -> None:
@@ -227,6 +283,35 @@ class Belief:
             self._forgotten[name] = k
         self.sticky.pop(name, None)
 
+    def lost(self, name: str) -> None:
+        """An item not where the belief had it, after a close look: forgotten, and the space
+        around that place unseen again, so exploration looks for it there (it may have rolled)."""
+        k = self.items.get(name)
+        if k is not None:
+            self.unsee((k.x, k.y), max(LOST_RADIUS, k.spread + 0.4))
+        self.forget(name)
+
+    def in_deposit(self, deposit: str) -> list[Known]:
+        """The items believed tidied into ``deposit``."""
+        return [k for k in self.items.values() if k.state == "tidied" and k.deposit == deposit]
+
+    def inspect_deposit(self, deposit: str, detections: list[Detection]) -> tuple[list[str], list[str]]:
+        """What close looks into a deposit showed (``detections``, distinct items): each believed
+        item of the deposit is confirmed by one shown of its category; those left over are not
+        there (knocked out, or never placed right) and are lost, to be found and tidied again.
+        Returns (confirmed, lost)."""
+        shown = Counter(d.category for d in detections)
+        confirmed, gone = [], []
+        for k in sorted(self.in_deposit(deposit), key=lambda k: k.name):
+            if shown[k.category] > 0:
+                shown[k.category] -= 1
+                confirmed.append(k.name)
+            else:
+                gone.append(k.name)
+        for name in gone:
+            self.lost(name)
+        return confirmed, gone
+
     def taken(self, name: str) -> None:
         k = self.items[name]
         k.state, self.holding = "held", name
@@ -246,6 +331,7 @@ class Belief:
         self.put(name, *near)
         self.items[name].spread = spread
         self.scene_changed = True
+        self.unsee(near, spread + 0.4)  # a look for it covers where it may have rolled
 
     def relocate(self, name: str, x: float, y: float) -> None:
         """A close look found the item at (x, y)."""
@@ -297,18 +383,18 @@ class Belief:
     def _camera(self, p: Point) -> tuple[float, float, float]:
         return (p[0], p[1], self.scenario.sensing.camera_height)
 
-    def _view(self, p: Point) -> np.ndarray:
-        """Placement points in line of sight and range from p (furniture occludes, items do not:
-        the belief cannot know what unseen items hide)."""
-        key = (round(p[0], 3), round(p[1], 3))
+    def _view(self, p: Point, reach: float | None = None) -> np.ndarray:
+        """Placement points in line of sight and range (at most ``reach`` m, default the camera's
+        range) from p (furniture occludes, items do not: the belief cannot know what unseen items
+        hide)."""
+        s = self.scenario.sensing
+        reach = s.range_max if reach is None else reach
+        key = (round(p[0], 3), round(p[1], 3), reach)
         if key not in self._view_cache:
-            s = self.scenario.sensing
-            cam = self._camera(p)
-            mask = np.zeros(len(self.points), dtype=bool)
-            for n, (x, y, z) in enumerate(self.points):
-                occ = [b for b in self._occluders if b.name != self._support[n]]
-                mask[n] = visible(cam, (x, y, z), occ, range_min=s.range_min, range_max=s.range_max)
-            self._view_cache[key] = mask
+            self._view_cache[key] = visible_points(
+                self._camera(p), self._targets, self._occluders, self._support,
+                range_min=s.range_min, range_max=reach,
+            )  # fmt: skip
         return self._view_cache[key]
 
 

@@ -108,7 +108,7 @@ class MonitoredExecutor:
             belief.blocked_moves.add((points[step.args[0]], to))
             belief.blocked_moves.add((belief.robot, to))  # from where it stopped, too
         elif step.name == "take_object" and failure == "not_found":
-            belief.forget(step.args[0])  # nothing there: a false detection, or it rolled away
+            belief.lost(step.args[0])  # nothing there: a false detection, or it rolled away
 
 
 def _waypoint_at(snapshot: Snapshot, belief: Belief) -> str | None:

@@ -108,6 +108,10 @@ class RoomMap:
                 self.fixed[name] = static.nearest_free(d.x, d.y, reachable_from=self.entrance)
             self.fixed_kind[name] = "deposit"
 
+    def add_viewpoint(self, name: str, point: Point) -> None:
+        """A viewpoint beyond the scenario's (generated from the map by the belief)."""
+        self.fixed[name], self.fixed_kind[name] = point, "viewpoint"
+
     # ------------------------------------------------------------------ grids
     def grid(self, floor: Iterable[Box], *, bare: bool = False) -> OccupancyGrid:
         """The occupancy grid with the furniture and these floor boxes, navigation or bare radius."""
@@ -188,7 +192,8 @@ class RoomMap:
         for c in candidates:
             if not bare.free(*c):
                 continue
-            base = [q for q in reachable if math.dist(q, c) <= ADJUST_MAX]
+            # a pose adjustment is a short straight move: never through furniture or a wall
+            base = [q for q in reachable if math.dist(q, c) <= ADJUST_MAX and _straight(bare, q, c)]
             if base:
                 tight.append((rank(c), c, min(base, key=lambda q: (math.dist(q, c), q))))
         if not tight:
@@ -270,6 +275,12 @@ class RoomMap:
                 who = [p.name for p in floor if any(math.dist(p.xy, q) < self.nav_radius + 0.1 for q in line)]
             for item in who:
                 facts.blocks.add((item, names[i], names[j]))
+
+
+def _straight(grid: OccupancyGrid, a: Point, b: Point, step: float = 0.05) -> bool:
+    """Whether the straight segment a-b runs over free cells only (sampled every ``step``)."""
+    n = max(1, math.ceil(math.dist(a, b) / step))
+    return all(grid.free(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) for k in range(n + 1))
 
 
 def _crosses(a: Point, b: Point, box: Box) -> bool:

@@ -18,6 +18,7 @@ from tidyplan.belief import Detection
 from tidyplan.exec.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
 
 Point = tuple[float, float]
+LOOK_INTO_S = 2.0  # s: the head tilts to the deposit and the detector runs (as a close look)
 
 
 @dataclass(frozen=True, slots=True)
@@ -102,6 +103,28 @@ class WorldReferee:
     def where(self, name: str) -> tuple[str, Point]:
         o = self.items[name]
         return o.state if o.state != "tidied" else f"tidied:{o.deposit}", (o.x, o.y)
+
+    def escaped(self) -> list[str]:
+        """Items whose true place is outside the room's bounds: a fault of the simulation (an
+        object pushed through a wall), for the trace to report, never a lost object. A held item
+        is where the hand carries it (kinematically, into a wall too), not loose: never escaped.
+        The symbolic world puts items only inside the room: [] there."""
+        x0, x1, y0, y1 = self.scenario.bounds
+        return sorted(
+            n
+            for n, o in self.items.items()
+            if o.state != "held" and not (x0 <= o.x <= x1 and y0 <= o.y <= y1)
+        )
+
+    def look_into(self, deposit: str) -> list[Detection]:
+        """A close look into a deposit from where the robot stands at it (head tilted down): the
+        items resting in it, each missed at the false-negative rate."""
+        out = []
+        for o in sorted(self.items.values(), key=lambda o: o.name):
+            if o.state == "tidied" and o.deposit == deposit and self.rng.random() >= self.fn:
+                out.append(Detection(o.category, o.x, o.y, o.on, o.sx, o.sy, o.sz))
+        self.odometer.sim_time_s += LOOK_INTO_S
+        return out
 
     def close(self) -> None:
         """Release what the world holds (a physics server); nothing here."""
