@@ -24,16 +24,25 @@ TOUCH = 0.005  # m of penetration below which a contact is a graze, not a collis
 def base_contacts(robot: HSR, ignore: Iterable[int] = ()) -> dict[int, float]:
     """Bodies the base's collision shape penetrates, the floor and ``ignore`` aside: body ->
     depth in metres (positive)."""
-    c = robot.client
-    (x0, y0, z0), (x1, y1, z1) = p.getAABB(robot.body, robot.base_link, physicsClientId=c)
-    near = p.getOverlappingObjects((x0, y0, z0 + 0.005), (x1, y1, z1), physicsClientId=c) or []
-    skip = set(ignore) | {robot.body}
+    return _penetrated(robot.client, robot.body, robot.base_link, set(ignore) | {robot.body})
+
+
+def contacts(client: int, body: int, ignore: Iterable[int] = ()) -> dict[int, float]:
+    """Bodies that ``body`` (an item) penetrates, ``ignore`` aside: body -> depth in metres. What
+    the hand must not let go of: physics would throw an item out of what it is inside of, to
+    whichever side is nearest, through a wall too."""
+    return _penetrated(client, body, -1, set(ignore) | {body})
+
+
+def _penetrated(client: int, body: int, link: int, skip: set[int]) -> dict[int, float]:
+    (x0, y0, z0), (x1, y1, z1) = p.getAABB(body, link, physicsClientId=client)
+    near = p.getOverlappingObjects((x0, y0, z0 + 0.005), (x1, y1, z1), physicsClientId=client) or []
     out = {}
-    for body in sorted({b for b, _ in near} - skip):
-        points = p.getClosestPoints(robot.body, body, 0.0, linkIndexA=robot.base_link, physicsClientId=c)
+    for other in sorted({b for b, _ in near} - skip):
+        points = p.getClosestPoints(body, other, 0.0, linkIndexA=link, physicsClientId=client)
         depth = max((-q[8] for q in points), default=0.0)
         if depth > 0.0:
-            out[body] = depth
+            out[other] = depth
     return out
 
 

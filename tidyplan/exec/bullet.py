@@ -27,8 +27,8 @@ import numpy as np
 import pybullet as p
 
 from sim.camera import Camera
-from sim.motion import base_contacts, blocked, settle
-from sim.robot import STOW
+from sim.motion import TOUCH, base_contacts, blocked, contacts, settle
+from sim.robot import RAISED, STOW
 from sim.room import build, in_tray
 from sim.scenario import Scenario
 from tidyplan.exec.bullet_hand import SETTLE_S, Hand
@@ -95,7 +95,9 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
         the base's collision shape every 5 cm; stop short of a contact (``path_blocked``), or
         where a transient obstacle stands (the ``path_blocked`` fault). ``monitor.poll()`` runs
         after every segment and stops the motion when it returns False (``interrupted``). An
-        object in the hand slips out on the way at the ``grasp_drop`` rate and falls."""
+        object in the hand slips out on the way at the ``grasp_drop`` rate and falls: at the end
+        of the drawn segment, or of the first one after it where it is in the room and touches
+        nothing (``_free``)."""
         speed = self.scenario.robot.speed / (2 if careful else 1)
         n = len(path)
         block_at, drop_at = self._faults_on_path(n)
@@ -121,7 +123,7 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
                 metres, seconds = metres + d, seconds + d / speed
                 self._arrive(q, d, d / speed)
                 passed.append(q)
-            if k == drop_at:
+            if drop_at is not None and k >= drop_at and self.holding is not None and self._free():
                 self._slip()
             if monitor is not None and not monitor.poll():
                 return Outcome(False, "interrupted", seconds, metres)
@@ -144,9 +146,22 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
             self.odometer.track.append(to)
         self._follow_camera()
 
+    def _free(self) -> bool:
+        """Is the held object in the room, touching nothing but the robot (a graze aside)? It is
+        carried kinematically, through a table or a wall in its way: let go inside one, physics
+        would throw it out to the nearest side, the far side of a wall too; and held out far
+        enough over the base's edge, it is beyond the wall."""
+        held = self.bodies[self.holding]
+        x, y, _ = p.getBasePositionAndOrientation(held, physicsClientId=self.client)[0]
+        x0, x1, y0, y1 = self.scenario.bounds
+        touching = contacts(self.client, held, [self.hsr.body, self.scene.floor])
+        return x0 <= x <= x1 and y0 <= y <= y1 and all(d <= TOUCH for d in touching.values())
+
     def _slip(self) -> None:
         """The held object slips out (grasp_drop): the robot stops, the object falls from the hand,
-        pushed a little away from the base, and comes to rest wherever physics puts it."""
+        pushed a little away from the base, and comes to rest wherever physics puts it. The hand
+        goes up out of its way first, as after a release: the fingers of a hand opened wide
+        would otherwise be inside an object wider than they open, and kick it."""
         name = self.holding
         body = self.bodies[name]
         bx, by, _ = self.hsr.base()
@@ -155,6 +170,7 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
         away = away / (np.linalg.norm(away) or 1.0)
         speed = float(self.rng.uniform(0.1, 0.6))
         self._release()
+        self.hsr.set_joints(RAISED)
         p.resetBaseVelocity(body, (away[0] * speed, away[1] * speed, 0.0), physicsClientId=self.client)
         self._settle()
         self._sync(name)

@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pybullet as p
 
-from sim.motion import base_contacts, blocked
+from sim.motion import TOUCH, base_contacts, blocked, contacts
 from sim.robot import CARRY, GRIPPER_OPEN, HAND_DOWN, RAISED, REACHED, STOW, TURNS, hand_level
 from sim.room import TRAY, in_tray
 from tidyplan.exec.bullet_look import RECOGNISE_S
@@ -36,9 +36,9 @@ TALL = 0.3  # m: an object taller is taken from the side (the top grasp could no
 
 class Hand:
     """Manipulation for ``BulletWorld``: ``grasp``, ``place``, ``put_down``. Uses the world's
-    ``hsr``, ``client``, ``bodies``, ``items``, ``scenario``, ``robot``, ``holding``, its seeded
-    ``rng`` and ``rates``, and its ``_place_base``, ``_ignored``, ``_settle``, ``_sync``,
-    ``_spend`` and ``_fail``."""
+    ``hsr``, ``client``, ``scene``, ``bodies``, ``items``, ``scenario``, ``robot``, ``holding``,
+    its seeded ``rng`` and ``rates``, and its ``_place_base``, ``_ignored``, ``_settle``,
+    ``_sync``, ``_spend`` and ``_fail``."""
 
     def grasp(self, target: Point) -> Outcome:
         """Turn to the object at ``target``, bring the hand onto it (inverse kinematics; the base
@@ -176,33 +176,17 @@ class Hand:
         return Outcome(True, None, out.seconds, 0.0, (item.x, item.y))
 
     def _release_at(self, spots: list[Point], surface_z: float, seconds: float, fault_rate: float) -> Outcome:
-        """Put the held object down at the first of ``spots`` (at most 4 tried) the hand reaches
-        holding it as it stood at the grasp (the base backing off or sliding in a little where
-        the arm alone cannot); failing all, at the first in any orientation (a small object may
-        tilt, the rim holds it)."""
+        """Put the held object down at the first of ``spots`` where the arm can let it go (see
+        ``_pose_to_let_go``), open the hand, raise it out of the way and let physics settle it."""
         name = self.holding
         item = self.items[name]
-        # the hand as it was at the grasp (turned about the vertical by a quarter turn or more: four
-        # tries, where the IK may turn it a little more), the object's centre on the spot
-        hand_orn, centre_height = self._held_as
-        carried = self._grip_offset[0]  # the object's centre in the hand's frame
         start = self.robot
-        err = math.inf
-        for at in spots[:4]:
-            centre = (at[0], at[1], surface_z + 0.015 + centre_height)  # the object's bottom 1.5 cm above
-            pose, err, shift = self._whole_body_reach(
-                centre, hand_orn, at, turns=QUARTER_TURNS, carried=carried
-            )
-            if err <= REACHED:
-                seconds += self._shifted(shift)
-                break
-        if err > REACHED:  # upright out of reach: any orientation (a small object may tilt, the rim holds it)
+        found = self._pose_to_let_go(spots, surface_z)
+        if found is None:
             self._place_base(start)
-            centre = (spots[0][0], spots[0][1], surface_z + 0.015 + centre_height)
-            pose, err = self.hsr.reach(centre, hand_orn, carried=carried)
-        if err > REACHED:
             return self._fail("out_of_reach", seconds + 1.0)
-        seconds += self.hsr.set_joints(pose)
+        pose, shift = found
+        seconds += self._shifted(shift) + self.hsr.set_joints(pose)
         self._carry_along()
         if self.rng.random() >= fault_rate:
             seconds += 2.0 + self._carry()  # tried to open, and back
@@ -217,6 +201,62 @@ class Hand:
         item.state = "placed"
         self._last_released = name
         return self._spend(seconds)
+
+    def _pose_to_let_go(self, spots: list[Point], surface_z: float) -> tuple[dict, float] | None:
+        """(arm pose, base shift) that put the held object at the first of ``spots`` (at most 4
+        tried) the hand reaches holding it as it stood at the grasp (the base backing off or
+        sliding in a little where the arm alone cannot), touching nothing there (``_clear``);
+        failing all, at the first in any orientation (a small object may tilt, the rim holds
+        it). None where none will do. The base is left at the shift."""
+        # the hand as it was at the grasp (turned about the vertical by a quarter turn or more: four
+        # tries, where the IK may turn it a little more), the object's centre on the spot
+        hand_orn, centre_height = self._held_as
+        carried = self._grip_offset[0]  # the object's centre in the hand's frame
+        upright = {"strict": True, "turns": QUARTER_TURNS, "carried": carried}
+        start = self.robot
+        for at in spots[:4]:
+            centre = (at[0], at[1], surface_z + 0.015 + centre_height)  # the object's bottom 1.5 cm above
+            pose, err, shift = self._whole_body_reach(
+                centre, hand_orn, at, turns=QUARTER_TURNS, carried=carried
+            )
+            pose = self._clear(pose, centre, hand_orn, upright) if err <= REACHED else None
+            if pose is not None:
+                return pose, shift
+        self._place_base(start)  # upright out of reach: any orientation
+        centre = (spots[0][0], spots[0][1], surface_z + 0.015 + centre_height)
+        pose, err = self.hsr.reach(centre, hand_orn, carried=carried)
+        pose = self._clear(pose, centre, hand_orn, {"carried": carried}) if err <= REACHED else None
+        return None if pose is None else (pose, 0.0)
+
+    def _clear(self, pose: dict, centre: tuple, orientation, how: dict) -> dict | None:
+        """``pose`` if the held object there is inside nothing (a graze aside): let go inside
+        another object or a tray's rim, physics would throw both apart, over a wall too. Else
+        the pose (``how``: as ``HSR.reach`` takes it) that holds it just above what it would be
+        inside of, so that it falls onto them (an object put on top of another one topples
+        both); None where that is out of reach, or a wall or a piece of furniture is in the way."""
+        lift = self._lift_to_clear(pose)
+        if lift is None or lift == 0.0:
+            return pose if lift == 0.0 else None
+        raised, err = self.hsr.reach((centre[0], centre[1], centre[2] + lift), orientation, **how)
+        return raised if err <= REACHED and self._lift_to_clear(raised) == 0.0 else None
+
+    def _lift_to_clear(self, pose: dict) -> float | None:
+        """How far the held object, with the arm at ``pose``, must go up to be inside nothing:
+        0.0 where it is clear, None where a wall or a piece of furniture is in the way (up is
+        no way out of that). The arm is left as it was."""
+        saved = {name: self.hsr.q(name) for name in pose}
+        self.hsr.set_joints(pose)
+        self._carry_along()
+        held = self.bodies[self.holding]
+        bottom = p.getAABB(held, physicsClientId=self.client)[0][2]
+        touching = contacts(self.client, held, [self.hsr.body, self.scene.floor])
+        inside = [b for b, d in touching.items() if d > TOUCH]
+        self.hsr.set_joints(saved)
+        self._carry_along()
+        if any(b not in self.bodies.values() and b not in self.scene.deposits.values() for b in inside):
+            return None
+        tops = [p.getAABB(b, physicsClientId=self.client)[1][2] for b in inside]
+        return max((top + 0.015 - bottom for top in tops), default=0.0)
 
     def _free_spots(self, deposit) -> list[Point]:
         """Where in the tray the held object may go, best first: spots of a 5 x 5 grid of the
