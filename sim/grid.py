@@ -227,17 +227,30 @@ class OccupancyGrid:
     def _free_mask(self) -> np.ndarray:
         """Cells whose centre is at least the radius from every wall and obstacle box.
 
-        A plain loop over ``Box.clearance``, not numpy arithmetic: a cell near the radius (in the
-        WRS room one is 6e-5 m off it) must get the same verdict as ``clearance`` gives callers,
-        whatever a vector library's ``hypot`` rounds to. It costs ~30 ms for 5,600 cells.
+        The verdict must be ``Box.clearance``'s own (a cell near the radius, in the WRS room one
+        is 6e-5 m off it, must get the same answer callers get), whatever a vector library's
+        ``hypot`` rounds to: numpy decides the cells clearly inside or outside, and the few within
+        1e-9 m of the radius are decided by ``clearance`` itself. A two-room floor of 10,000 cells
+        with 36 boxes took 0.32 s in a plain loop, ~10 ms so.
         """
         x0, x1, y0, y1 = self.bounds
         r = self.radius
-        free = np.zeros(self.shape, dtype=bool)
-        for i, j in itertools.product(range(self.shape[0]), range(self.shape[1])):
-            x, y = self.xy(i, j)
-            walls = min(x - x0, x1 - x, y - y0, y1 - y)
-            free[i, j] = walls >= r and all(b.clearance(x, y) >= r for b in self.obstacles)
+        n_i, n_j = self.shape
+        xs = x0 + (np.arange(n_i) + 0.5) * self.cell_size
+        ys = y0 + (np.arange(n_j) + 0.5) * self.cell_size
+        x, y = np.meshgrid(xs, ys, indexing="ij")
+        walls = np.minimum(np.minimum(x - x0, x1 - x), np.minimum(y - y0, y1 - y))
+        free = walls >= r
+        near = np.zeros(self.shape, dtype=bool)
+        for b in self.obstacles:
+            dx = np.maximum(np.abs(x - b.cx) - b.sx / 2, 0.0)
+            dy = np.maximum(np.abs(y - b.cy) - b.sy / 2, 0.0)
+            d = np.hypot(dx, dy)
+            free &= d >= r
+            near |= np.abs(d - r) <= 1e-9
+        for i, j in zip(*np.nonzero(near & (walls >= r)), strict=True):
+            px, py = self.xy(int(i), int(j))
+            free[i, j] = all(b.clearance(px, py) >= r for b in self.obstacles)
         free.flags.writeable = False  # the grid is a value: with_obstacles makes a new one
         return free
 

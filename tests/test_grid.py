@@ -126,3 +126,32 @@ def test_tidygen_problems_are_unchanged():
     assert digest == "50cc02f6f6b53ab9e1a5785f79d4503501146646aad431e76d22c2ae71179078"
     digest = hashlib.sha256(text.encode()).hexdigest()
     assert digest == "f62c22f575f9c36b4026655297af48a1d11a0e8cf432771033ac8ee4ce19956c"
+
+
+def test_free_mask_gives_the_verdict_of_box_clearance_on_seeded_random_rooms():
+    # The mask is computed with numpy; every cell must get the verdict Box.clearance gives a
+    # caller, also the cells a rounding away from the radius (naive reference, cell by cell).
+    import random
+
+    rng = random.Random(5)
+    for _ in range(12):
+        bounds = (0.0, rng.uniform(2.0, 5.0), 0.0, rng.uniform(2.0, 5.0))
+        boxes = [
+            Box(
+                rng.uniform(0, bounds[1]),
+                rng.uniform(0, bounds[3]),
+                rng.uniform(0.05, 1.0),
+                rng.uniform(0.05, 1.0),
+            )
+            for _ in range(rng.randrange(1, 15))
+        ]
+        # a box whose inflated edge falls exactly on a cell centre: the borderline case
+        boxes.append(Box(1.025 + 0.27 + 0.1, 1.0, 0.2, 0.2))
+        grid = OccupancyGrid(bounds, boxes, radius=rng.choice((0.22, 0.27)))
+        x0, x1, y0, y1 = bounds
+        for i in range(grid.shape[0]):
+            for j in range(grid.shape[1]):
+                x, y = grid.xy(i, j)
+                walls = min(x - x0, x1 - x, y - y0, y1 - y)
+                expected = walls >= grid.radius and all(b.clearance(x, y) >= grid.radius for b in boxes)
+                assert grid.mask[i, j] == expected, (i, j)
