@@ -143,3 +143,26 @@ def test_visible_items_moved(room):
     assert visible_items(room, (1.0, 2.0), moved={"post": (2.0, 2.5, 0.0)}) == ["open", "post"]
     with pytest.raises(KeyError):
         visible_items(room, (1.0, 2.0), items=["ghost"])
+
+
+def test_visible_points_agrees_with_visible_on_seeded_random_scenes():
+    # The array form the belief uses for its placement points, against the scalar one.
+    import random
+
+    import numpy as np
+
+    from sim.visibility import visible_points
+
+    rng = random.Random(3)
+    for _ in range(20):
+        boxes = []
+        for k in range(rng.randrange(1, 8)):
+            x, y, z = rng.uniform(0, 4), rng.uniform(0, 4), rng.uniform(0.2, 1.5)
+            boxes.append(Box3(x, x + rng.uniform(0.1, 1), y, y + rng.uniform(0.1, 1), 0.0, z, f"b{k}"))
+        camera = (rng.uniform(0, 4), rng.uniform(0, 4), 1.0)
+        targets = [(rng.uniform(0, 4), rng.uniform(0, 4), rng.choice((0.05, 0.45))) for _ in range(200)]
+        support = [rng.choice(["floor", *(b.name for b in boxes)]) for _ in targets]
+        got = visible_points(camera, np.array(targets), boxes, support, range_min=0.8, range_max=3.5)
+        for n, t in enumerate(targets):
+            occ = [b for b in boxes if b.name != support[n]]
+            assert got[n] == visible(camera, t, occ, range_min=0.8, range_max=3.5), n
