@@ -114,6 +114,8 @@ class Belief:
         self.must_move_back = False
         self.sticky: dict[str, Point] = {}
         self.blocked_moves: set[tuple[Point, Point]] = set()
+        # (item place, robot pose): a close look from that pose did not find the item there
+        self.failed_poses: list[tuple[Point, Point]] = []
         self.scene_changed = False  # an item left the floor since exploration was last reset
         self._serial: Counter[str] = Counter()
         self._forgotten: dict[str, Known] = {}  # seen again near where it was: same name
@@ -154,7 +156,11 @@ class Belief:
         last answer is kept while nothing it depends on changes (callers must not edit it)."""
         if self._facts is not None and self._facts[0] == self._facts_key():
             return self._facts[1]
-        facts = self.room.facts(self.placed(), robot=(self.robot_wp, self.robot), sticky=self.sticky)
+        avoid = {
+            k.name: [pose for place, pose in self.failed_poses if math.dist(place, (k.x, k.y)) <= SAME_ITEM]
+            for k in self.untidied()
+        }
+        facts = self.room.facts(self.placed(), (self.robot_wp, self.robot), self.sticky, avoid)
         for item, wp in facts.grasp.items():
             self.sticky[item] = facts.points[wp]
         for table in (facts.path, facts.adjust):
@@ -171,6 +177,7 @@ class Belief:
             self.robot,
             frozenset(self.blocked_moves),
             tuple(sorted(self.sticky.items())),
+            tuple(self.failed_poses),
         )
 
     def p_item_near(self, facts: MapFacts) -> dict[str, float]:
@@ -285,9 +292,12 @@ class Belief:
 
     def lost(self, name: str) -> None:
         """An item not where the belief had it, after a close look: forgotten, and the space
-        around that place unseen again, so exploration looks for it there (it may have rolled)."""
+        around that place unseen again, so exploration looks for it there (it may have rolled).
+        An item seen there again is grasped from another pose: the look from this one failed."""
         k = self.items.get(name)
         if k is not None:
+            if k.state == "placed":
+                self.failed_poses.append(((k.x, k.y), self.robot))
             self.unsee((k.x, k.y), max(LOST_RADIUS, k.spread + 0.4))
         self.forget(name)
 

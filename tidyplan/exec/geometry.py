@@ -130,6 +130,7 @@ class RoomMap:
         items: Sequence[Placed],
         robot: tuple[str, Point] | None = None,
         sticky: dict[str, Point] | None = None,
+        avoid: dict[str, list[Point]] | None = None,
     ) -> MapFacts:
         """Waypoints and path facts with ``items`` where they are; ``robot`` = (name, point) adds
         the robot's pose under that name (the waypoint it last reached, which may be gone from the
@@ -141,7 +142,8 @@ class RoomMap:
         facts = MapFacts(points=dict(self.fixed), kind=dict(self.fixed_kind))
         reachable = set(nav.free_cells(reachable_from=self.entrance))
         for p in sorted(items, key=lambda p: p.name):
-            self._add_grasp(facts, p, floor, nav, static, bare, reachable, (sticky or {}).get(p.name))
+            bad = (avoid or {}).get(p.name, [])
+            self._add_grasp(facts, p, floor, nav, static, bare, reachable, (sticky or {}).get(p.name), bad)
         if robot is not None and robot[0] not in facts.points:
             # under its own name even beside another waypoint: the plan being executed says it
             facts.points[robot[0]], facts.kind[robot[0]] = robot[1], "robot"
@@ -150,20 +152,30 @@ class RoomMap:
         self._add_paths(facts, items, nav, static)
         return facts
 
-    def _add_grasp(self, facts, p, floor, nav, static, bare, reachable, previous) -> None:
+    def _add_grasp(self, facts, p, floor, nav, static, bare, reachable, previous, avoid=()) -> None:
         """Choose where the robot stands to grasp ``p``: a pose the navigation grid reaches now,
         else one it reaches once floor items are cleared (blocked), else one a pose adjustment
         reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier."""
         # GRASP_MIN keeps poses off the item's own footprint, so the grid with every floor item
         # serves. The arm reaches straight: a floor item in between makes a pose usable only
         # once that item is taken away, like an item lying across a path.
-        others_floor = [b for b in floor if b.name != p.name and b.clearance(*p.xy) <= GRASP_MAX]
+        # A pose where another floor item stands is usable once that item is taken away too: the
+        # only poses of an item hemmed in by others (a table side lined with floor items).
+        others_floor = [b for b in floor if b.name != p.name and b.clearance(*p.xy) <= GRASP_MAX + 0.5]
         crossing: dict[Point, tuple[str, ...]] = {}
-        for c in bare.free_cells():
+        for c in self.grid((), bare=True).free_cells():
             if GRASP_MIN <= math.dist(c, p.xy) <= GRASP_MAX:
-                crossing[c] = tuple(b.name for b in others_floor if _crosses(c, p.xy, b))
+                under = () if bare.free(*c) else tuple(
+                    b.name for b in others_floor if b.clearance(*c) < self.bare_radius
+                )  # fmt: skip
+                crossing[c] = tuple(b.name for b in others_floor if _crosses(c, p.xy, b)) + under
         others = [q for n, q in facts.points.items() if facts.kind[n] in ("grasp", "adjust")]
-        crossing = {c: x for c, x in crossing.items() if all(math.dist(c, q) >= 0.1 for q in others)}
+        # poses taken by other waypoints, and those from which the robot failed to find p before
+        crossing = {
+            c: x
+            for c, x in crossing.items()
+            if all(math.dist(c, q) >= 0.1 for q in others) and all(math.dist(c, q) >= 0.15 for q in avoid)
+        }
         candidates = [c for c, x in crossing.items() if not x]
         rank = lambda c: (len(crossing[c]), abs(math.dist(c, p.xy) - GRASP_BEST), c)  # noqa: E731
         name = grasp_waypoint(p.name)
