@@ -126,13 +126,13 @@ class HeadCamera:
         return self.camera.seen(self.client, *self.hsr.camera(), candidates, self.hsr.head_parts()), seconds
 
     def _step_back(self, near: Point, surface: float) -> Point | None:
-        """The nearest free pose, straight back or back to either side, from which the place is
-        far enough for the camera; None if there is none within 0.4 m. The robot is left where
-        it was."""
+        """The nearest free pose, straight back, back to either side or sideways, from which the
+        place is far enough for the camera; None if there is none within 0.6 m (a grasp pose with
+        its back to a wall needs a long step sideways). The robot is left where it was."""
         start = self.robot
         away = math.atan2(start[1] - near[1], start[0] - near[0])
         found = None
-        for step in (0.1, 0.2, 0.3, 0.4):
+        for step in (0.1, 0.2, 0.3, 0.4, 0.5, 0.6):
             for turn in (0.0, 0.785, -0.785, 1.571, -1.571):
                 a = away + turn
                 q = (start[0] + step * math.cos(a), start[1] + step * math.sin(a))
