@@ -97,18 +97,27 @@ class SpawnError(Exception):
     """A zone had no room left for an object: the rules cannot be met as drawn."""
 
 
-def file_name(layout: str, seed: int) -> str:
-    return f"wrs-{layout}-s{seed:03d}.toml"
+def file_name(layout: str, seed: int, per_room: int = PER_ROOM) -> str:
+    """wrs-one-s000.toml; at scale the object count too: wrs-two-s000-n96.toml."""
+    n = per_room * len(CATEGORIES) * (2 if layout == "two" else 1)
+    return f"wrs-{layout}-s{seed:03d}" + ("" if per_room == PER_ROOM else f"-n{n}") + ".toml"
 
 
 def generate(
-    layout: str, seed: int, wall_height: float = WALL_HEIGHT, base: Scenario | None = None
+    layout: str,
+    seed: int,
+    wall_height: float = WALL_HEIGHT,
+    base: Scenario | None = None,
+    per_room: int = PER_ROOM,
 ) -> Scenario:
-    """The room of ``layout`` ("one" or "two") for ``seed``; ``base`` is case I (read when None)."""
+    """The room of ``layout`` ("one" or "two") for ``seed``; ``base`` is case I (read when None).
+    ``per_room`` objects of each category in each room (3, the paper's; more for rooms at scale:
+    the zones' counts grow with it, and what a zone cannot hold spills onto the room's floor)."""
     base = base or load(CASE1)
     rng = random.Random(seed)
     furniture = list(base.furniture)
-    items = _room(rng, ROOM1, furniture, base.bounds, [], ())
+    zones = _scaled(ROOM1, per_room, OVERFLOW1)
+    items = _room(rng, zones, furniture, base.bounds, [], (), per_room)
     bounds, notes = base.bounds, ""
     if layout == "two":
         bounds = BOUNDS_TWO
@@ -116,7 +125,8 @@ def generate(
         table = _dining_table(rng)
         furniture += [*walls, table]
         doorway = Box(WALL_X[1] + DOORWAY / 2, lo + OPENING / 2, DOORWAY, OPENING, "doorway")
-        items += _room(rng, _dining_zones(table), furniture, bounds, items, (doorway,))
+        zones = _scaled(_dining_zones(table), per_room, OVERFLOW2)
+        items += _room(rng, zones, furniture, bounds, items, (doorway,), per_room)
         notes = (
             f"\nThe dining room (x {WALL_X[1]:g}..{bounds[1]:g}) is reached through the {OPENING:g} m opening"
             f" at y {lo:g}..{lo + OPENING:g} in the dividing wall ({wall_height:g} m high); its table"
@@ -124,7 +134,7 @@ def generate(
         )
     elif layout != "one":
         raise ValueError(f"unknown layout {layout!r}")
-    name = file_name(layout, seed).removesuffix(".toml")
+    name = file_name(layout, seed, per_room).removesuffix(".toml")
     counts = {c: sum(i.category == c for i in items) for c in CATEGORIES}
     return Scenario(
         name=name,
@@ -148,26 +158,59 @@ def generate(
     )
 
 
-def _room(rng, zones, furniture, bounds, placed, keep_out) -> list[Item]:
+# Where a zone's objects go when it is full (rooms at scale only): the open floor of each room,
+# clear of the deposit wall's strip
+OVERFLOW1 = Zone("room-floor", FLOOR, (-2.1, 0.3), (-1.8, 1.8), 0)
+OVERFLOW2 = Zone("dining-room-floor", FLOOR, (1.0, 3.1), (-1.8, 1.8), 0)
+
+
+def _scaled(zones, per_room: int, overflow: Zone) -> tuple[Zone, ...]:
+    """The zones with their counts grown by per_room / PER_ROOM, and the overflow zone last."""
+    if per_room == PER_ROOM:
+        return tuple(zones)
+    total = per_room * len(CATEGORIES)
+    counts = [z.count * per_room // PER_ROOM for z in zones]
+    counts[0] += total - sum(counts)
+    return (*(replace(z, count=n) for z, n in zip(zones, counts, strict=True)), overflow)
+
+
+def _letters(n: int) -> str:
+    """0 -> a, 25 -> z, 26 -> aa, ...: the names of a category's objects."""
+    out = ""
+    n += 1
+    while n:
+        n, r = divmod(n - 1, 26)
+        out = ascii_lowercase[r] + out
+    return out
+
+
+def _room(rng, zones, furniture, bounds, placed, keep_out, per_room: int = PER_ROOM) -> list[Item]:
     """One room's objects: the zones' places drawn in order, then the categories shuffled over them
     (PER_ROOM of each), lettered after those of the same category already ``placed``: food-a,
     food-b, ..., never like the belief's own names for what it sees (food-1, food-2, ...)."""
     shapes: list[tuple[float, float, float, float, float, str]] = []
     others = [(i.x, i.y) for i in placed]
     pieces = {f.name: f for f in furniture}
+    spill = 0
     for zone in zones:
-        for _ in range(zone.count):
-            shape = _spawn(rng, zone, pieces, bounds, others, keep_out)
+        for _ in range(zone.count + (spill if zone.count == 0 else 0)):
+            try:
+                shape = _spawn(rng, zone, pieces, bounds, others, keep_out)
+            except SpawnError:
+                if zone is zones[-1] or zones[-1].count != 0:
+                    raise
+                spill += 1  # full: onto the room's floor (the overflow zone, last)
+                continue
             others.append(shape[:2])
             shapes.append(shape)
-    categories = [c for c in CATEGORIES for _ in range(PER_ROOM)]
+    categories = [c for c in CATEGORIES for _ in range(per_room)]
     assert len(categories) == len(shapes), "the zones' counts must add up to the categories'"
     rng.shuffle(categories)
     seen = {c: sum(i.category == c for i in placed) for c in CATEGORIES}
     items = []
     for cat, (x, y, sx, sy, sz, on) in zip(categories, shapes, strict=True):
         seen[cat] += 1
-        items.append(Item(f"{cat}-{ascii_lowercase[seen[cat] - 1]}", cat, x, y, on, sx, sy, sz))
+        items.append(Item(f"{cat}-{_letters(seen[cat] - 1)}", cat, x, y, on, sx, sy, sz))
     return items
 
 
@@ -328,10 +371,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument(
         "--wall-height", type=float, default=None, help=f"m, layout two (default {WALL_HEIGHT:g})"
     )
+    ap.add_argument(
+        "--per-room", type=int, default=PER_ROOM,
+        help=f"objects of each category in each room (default {PER_ROOM}; 6 and 12 make the two-room"
+        " layout's 48 and 96 objects)",
+    )  # fmt: skip
     ap.add_argument("--force", action="store_true", help="overwrite existing files")
     args = ap.parse_args(argv)
     if args.rooms < 1:
         ap.error(f"--rooms must be at least 1, got {args.rooms}")
+    if args.per_room < 1:
+        ap.error(f"--per-room must be at least 1, got {args.per_room}")
     if args.first_seed < 0:
         ap.error(f"--first-seed must be >= 0, got {args.first_seed}")
     if args.wall_height is not None and args.layout != "two":
@@ -343,7 +393,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if out.exists() and not out.is_dir():
         ap.error(f"--out {out}: not a folder")
     seeds = range(args.first_seed, args.first_seed + args.rooms)
-    targets = [out / file_name(args.layout, seed) for seed in seeds]
+    targets = [out / file_name(args.layout, seed, args.per_room) for seed in seeds]
     existing = [t for t in targets if t.exists()]
     if existing and not args.force:
         more = f" (and {len(existing) - 1} more)" if len(existing) > 1 else ""
@@ -351,7 +401,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     base = load(CASE1)
     for seed, target in zip(seeds, targets, strict=True):
-        write(generate(args.layout, seed, height, base), target)
+        write(generate(args.layout, seed, height, base, args.per_room), target)
         print(target)
     return 0
 

@@ -132,7 +132,8 @@ KNOWN_ITEM = "category, name, on, position, size"
     ("old", "new", "message"),
     [
         ('name = "mini"', 'name = "mini"\ncolour = 1', "colour: unknown key (known: deposit, "
-         "description, expect, furniture, item, name, prior, robot, room, schema, sensing, title, viewpoint)"),
+         "description, expect, furniture, item, name, prior, robot, room, schema, sensing, title, "
+         "viewpoint)"),
         ('on = "table"', 'on = "table"\ncolour = "red"',
          f'item "apple".colour: unknown key (known: {KNOWN_ITEM})'),
         ("speed = 0.3", "speed = 0.3\nwheels = 3",
@@ -265,7 +266,7 @@ def test_not_utf8(tmp_path):
 
 
 def test_prior_is_what_the_robot_is_told_and_never_the_items():
-    told = loads(FULL + '\n[prior]\ncount = { food = 5 }\n', "s.toml")
+    told = loads(FULL + "\n[prior]\ncount = { food = 5 }\n", "s.toml")
     assert told.prior_counts() == {"food": 5}  # two food items in the room: the prior is not a count of them
     assert loads(FULL, "s.toml").prior_counts() is None
     blind = told.without_items()
