@@ -155,3 +155,21 @@ def test_free_mask_gives_the_verdict_of_box_clearance_on_seeded_random_rooms():
                 walls = min(x - x0, x1 - x, y - y0, y1 - y)
                 expected = walls >= grid.radius and all(b.clearance(x, y) >= grid.radius for b in boxes)
                 assert grid.mask[i, j] == expected, (i, j)
+
+
+def test_connected_without_a_box_agrees_with_a_new_grid_on_seeded_random_rooms():
+    import random
+
+    rng = random.Random(11)
+    for _ in range(15):
+        bounds = (0.0, 3.0, 0.0, 3.0)
+        boxes = [
+            Box(rng.uniform(0, 3), rng.uniform(0, 3), rng.uniform(0.05, 0.3), rng.uniform(0.05, 0.3), f"b{k}")
+            for k in range(rng.randrange(3, 12))
+        ]
+        grid = OccupancyGrid(bounds, boxes, radius=0.25)
+        points = [(rng.uniform(0, 3), rng.uniform(0, 3)) for _ in range(8)]
+        pairs = [(a, b) for a in points for b in points if a < b]
+        for box in boxes:
+            fresh = OccupancyGrid(bounds, [b for b in boxes if b is not box], radius=0.25)
+            assert grid.connected_without(box, pairs) == [fresh.connected(a, b) for a, b in pairs]

@@ -275,11 +275,12 @@ class RoomMap:
         every floor item near the pair's path on the static map (all of them must go)."""
         floor = [p for p in items if p.on == "floor"]
         freed: dict[tuple[int, int], list[str]] = {pair: [] for pair in pairs}
+        nav = self.grid([p.box() for p in floor])
         for p in floor:
-            grid = self.grid([q.box() for q in floor if q is not p])
-            for i, j in pairs:
-                if grid.connected(pts[i], pts[j]):
-                    freed[(i, j)].append(p.name)
+            joined = nav.connected_without(p.box(), [(pts[i], pts[j]) for i, j in pairs])
+            for pair, ok in zip(pairs, joined, strict=True):
+                if ok:
+                    freed[pair].append(p.name)
         static = self.grid(())
         for (i, j), who in freed.items():
             if not who:
