@@ -68,7 +68,8 @@ def add_parsers(sub, positive) -> None:
         type=positive,
         default=1e-4,
         metavar="P",
-        help="give up when the best plan's success probability is below P (default 1e-4)",
+        help="adopt a plan only when what it commits to next (its steps up to the first delivery) "
+        "succeeds with probability P or more; under it the goal is narrowed (default 1e-4)",
     )
     r.add_argument(
         "--max-recovery",

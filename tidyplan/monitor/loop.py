@@ -219,6 +219,7 @@ class Mission:
             wp = deposit_waypoint(d.name)
             step = Step("move", (self.belief.robot_wp, wp), False, 1, 1.0, 0.0)
             report = self.executor.execute(step, self.snapshot, self.belief, self._observe)
+            self.count.action(step, report, False, False)
             self.trace.emit("action", action=step.text, stratum=None, ok=report.ok, failure=report.failure,
                             failure_class=report.failure_class, recoveries=report.recoveries,
                             recovery_exhausted=report.recovery_exhausted, seconds=round(report.seconds, 2),
