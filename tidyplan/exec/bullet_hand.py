@@ -34,6 +34,9 @@ TALL = 0.3  # m: an object taller is taken from the side (the top grasp could no
 # on a 0.4 m table: the hand pointing down reaches 0.80 m at most, measured with sim.robot.HSR.reach)
 
 
+SUNK = 0.05  # m: how far into a surface's top the held object may dip and still be lifted clear
+
+
 class Hand:
     """Manipulation for ``BulletWorld``: ``grasp``, ``place``, ``put_down``. Uses the world's
     ``hsr``, ``client``, ``scene``, ``bodies``, ``items``, ``scenario``, ``robot``, ``holding``,
@@ -242,8 +245,9 @@ class Hand:
 
     def _lift_to_clear(self, pose: dict) -> float | None:
         """How far the held object, with the arm at ``pose``, must go up to be inside nothing:
-        0.0 where it is clear, None where a wall or a piece of furniture is in the way (up is
-        no way out of that). The arm is left as it was."""
+        0.0 where it is clear, None where a wall or a piece of furniture is in the way beside it
+        (up is no way out of that; out of a surface it dipped into by SUNK at most, it is). The
+        arm is left as it was."""
         saved = {name: self.hsr.q(name) for name in pose}
         self.hsr.set_joints(pose)
         self._carry_along()
@@ -253,10 +257,14 @@ class Hand:
         inside = [b for b, d in touching.items() if d > TOUCH]
         self.hsr.set_joints(saved)
         self._carry_along()
-        if any(b not in self.bodies.values() and b not in self.scene.deposits.values() for b in inside):
-            return None
-        tops = [p.getAABB(b, physicsClientId=self.client)[1][2] for b in inside]
-        return max((top + 0.015 - bottom for top in tops), default=0.0)
+        tops = {b: p.getAABB(b, physicsClientId=self.client)[1][2] for b in inside}
+        for b, top in tops.items():
+            loose = b in self.bodies.values() or b in self.scene.deposits.values()
+            # a wall or furniture beside the object is in the way; one whose top the object only
+            # dips into (the IK a few cm short at the drawer's 0.94 m) is left by going up
+            if not loose and top - bottom > SUNK:
+                return None
+        return max((top + 0.015 - bottom for top in tops.values()), default=0.0)
 
     def _free_spots(self, deposit) -> list[Point]:
         """Where in the tray the held object may go, best first: spots of a 5 x 5 grid of the
