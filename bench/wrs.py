@@ -71,6 +71,7 @@ OPENING, OPENING_MARGIN = 1.2, 0.3
 TABLE_SIZE, TABLE_CLEAR, TABLE_EDGE = (0.8, 1.2, 0.70), 0.7, 0.05
 RING = 0.5  # m around the dining table where its floor objects lie
 DOORWAY = 0.8  # m behind the opening kept free of objects
+ENTRANCE_CLEAR, APPROACH_CLEAR = 1.2, 0.6  # m squares kept free around the entrance and approaches
 
 
 @dataclass(frozen=True, slots=True)
@@ -117,7 +118,13 @@ def generate(
     rng = random.Random(seed)
     furniture = list(base.furniture)
     zones = _scaled(ROOM1, per_room, OVERFLOW1)
-    items = _room(rng, zones, furniture, base.bounds, [], (), per_room)
+    # where no zone reaches, and a room at scale must stay clear: where the robot comes in and
+    # where it stands to deliver (an item there would shut it in or out)
+    ex, ey = base.entrance
+    clear = (Box(ex, ey, ENTRANCE_CLEAR, ENTRANCE_CLEAR, "entrance"),) + tuple(
+        Box(*d.approach, APPROACH_CLEAR, APPROACH_CLEAR, d.name) for d in base.deposits if d.approach
+    )
+    items = _room(rng, zones, furniture, base.bounds, [], clear, per_room)
     bounds, notes = base.bounds, ""
     if layout == "two":
         bounds = BOUNDS_TWO
@@ -126,7 +133,7 @@ def generate(
         furniture += [*walls, table]
         doorway = Box(WALL_X[1] + DOORWAY / 2, lo + OPENING / 2, DOORWAY, OPENING, "doorway")
         zones = _scaled(_dining_zones(table), per_room, OVERFLOW2)
-        items += _room(rng, zones, furniture, bounds, items, (doorway,), per_room)
+        items += _room(rng, zones, furniture, bounds, items, (doorway, *clear), per_room)
         notes = (
             f"\nThe dining room (x {WALL_X[1]:g}..{bounds[1]:g}) is reached through the {OPENING:g} m opening"
             f" at y {lo:g}..{lo + OPENING:g} in the dividing wall ({wall_height:g} m high); its table"

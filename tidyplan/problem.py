@@ -70,13 +70,52 @@ def removal_choices(facts: MapFacts, belief: Belief, robot_wp: str) -> dict[str,
     return out
 
 
+def focus(facts: MapFacts, belief: Belief, goal: Sequence[str]) -> tuple[MapFacts, set[str]]:
+    """The part of the map a problem for ``goal`` needs, and the seen items it keeps: the goal's
+    items, the one in the hand, and, until nothing changes, every item that blocks a way between
+    the waypoints kept (P3 may have to move it). Other items' waypoints and ways are left out:
+    in a room of 48 items they made most of the problem, and a plan for a dozen never used them."""
+    robot_wp = robot_waypoint(facts, belief)
+    fixed = {n for n, k in facts.kind.items() if k in ("entrance", "viewpoint", "deposit", "robot")}
+    fixed |= {n + "-base" for n in fixed if n + "-base" in facts.points} | {robot_wp}
+    keep = {g for g in goal if g in facts.grasp} | ({belief.holding} if belief.holding else set())
+    while True:
+        wps = fixed | {facts.grasp[i] for i in keep if i in facts.grasp}
+        wps |= {w + "-base" for w in wps if w + "-base" in facts.points}
+        more = keep | {i for i, a, b in facts.blocks if a in wps and b in wps}
+        if more == keep:
+            break
+        keep = more
+    part = MapFacts(
+        points={n: q for n, q in facts.points.items() if n in wps},
+        kind={n: k for n, k in facts.kind.items() if n in wps},
+        grasp={i: w for i, w in facts.grasp.items() if i in keep},
+        unreachable=[i for i in facts.unreachable if i in keep],
+        path={ab: d for ab, d in facts.path.items() if ab[0] in wps and ab[1] in wps},
+        blocked={ab: d for ab, d in facts.blocked.items() if ab[0] in wps and ab[1] in wps},
+        blocks={t for t in facts.blocks if t[1] in wps and t[2] in wps},
+        adjust={ab: d for ab, d in facts.adjust.items() if ab[0] in wps and ab[1] in wps},
+        reach_blockers={w: who for w, who in facts.reach_blockers.items() if w in wps},
+    )
+    return part, keep
+
+
 def write(
-    belief: Belief, facts: MapFacts, goal: Sequence[str], virtual: Sequence[tuple[str, str]], name: str
+    belief: Belief,
+    facts: MapFacts,
+    goal: Sequence[str],
+    virtual: Sequence[tuple[str, str]],
+    name: str,
+    focused: bool = False,
 ) -> Snapshot:
-    """The problem text for the items in ``goal`` (seen names and virtual names)."""
+    """The problem text for the items in ``goal`` (seen names and virtual names); ``focused``:
+    with only the part of the map and the items that goal needs (``focus``)."""
+    keep = None
+    if focused:
+        facts, keep = focus(facts, belief, goal)
     robot_wp = robot_waypoint(facts, belief)
     removal = removal_choices(facts, belief, robot_wp)
-    seen = [k for k in belief.untidied()]
+    seen = [k for k in belief.untidied() if keep is None or k.name in keep]
     p_near = belief.p_item_near(facts) if virtual else {}
     deposits = belief.scenario.deposits
     categories = sorted({k.category for k in seen} | {c for _, c in virtual} | {d.category for d in deposits})

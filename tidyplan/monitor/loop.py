@@ -299,10 +299,16 @@ class Mission:
             here = robot_waypoint(facts, self.belief)
             far = float("inf")
 
-            def distance(g: str) -> float:
+            def distance(g: str) -> tuple[int, float]:
+                """Items the robot can drive to now first, then those behind others; nearest first."""
                 if g == self.belief.holding:
-                    return 0.0
-                return facts.distance(here, facts.grasp[g]) or far
+                    return (0, 0.0)
+                w = facts.grasp[g]
+                return (
+                    (0, facts.path[(here, w)])
+                    if (here, w) in facts.path
+                    else (1, facts.distance(here, w) or far)
+                )
 
             near = sorted(seen, key=lambda g: (distance(g), g))[:HORIZON]
             by_category = sorted(virtual, key=lambda v: (int(v[0].rsplit("-", 1)[1]), v[1]))
@@ -322,7 +328,9 @@ class Mission:
                 nothing = PlanResult(Status.NO_PLAN, (), None, None, (), 0.0, "", "nothing feasible")
                 return nothing, None, None, 0.0
         n = self.count.replans
-        snap = write(self.belief, self.belief.facts(), goal, virtual, f"tidy-replan-{n:03d}")
+        snap = write(
+            self.belief, self.belief.facts(), goal, virtual, f"tidy-replan-{n:03d}", label == "horizon"
+        )
         problem = self._problem(snap.text, f"replan-{n:03d}.pddl")
         t0 = time.perf_counter()
         result = self.planner(self.domain, problem, self.max_stratum)
