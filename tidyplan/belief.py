@@ -120,7 +120,7 @@ class Belief:
         self._serial: Counter[str] = Counter()
         self._forgotten: dict[str, Known] = {}  # seen again near where it was: same name
         self._occluders = [Box3.from_furniture(f) for f in scenario.furniture]
-        self.points, self._support = _placement_points(scenario)
+        self.points, self._support = viewpoints.placement_points(scenario, POINT_SPACING)
         self._targets = np.array(self.points, dtype=float).reshape(-1, 3)
         self.seen = np.zeros(len(self.points), dtype=bool)
         self._view_cache: dict[tuple, np.ndarray] = {}
@@ -406,24 +406,3 @@ class Belief:
                 range_min=s.range_min, range_max=reach,
             )  # fmt: skip
         return self._view_cache[key]
-
-
-def _placement_points(scenario: Scenario) -> tuple[list[tuple[float, float, float]], list[str]]:
-    """Where an item may lie: a 10 cm lattice over the floor clear of furniture, and over the top
-    of every table; 5 cm above the surface (an item's middle)."""
-    x0, x1, y0, y1 = scenario.bounds
-    points, support = [], []
-    xs = np.arange(x0 + POINT_SPACING / 2, x1, POINT_SPACING)
-    ys = np.arange(y0 + POINT_SPACING / 2, y1, POINT_SPACING)
-    for x in xs:
-        for y in ys:
-            x, y = round(float(x), 3), round(float(y), 3)
-            on = [f for f in scenario.furniture if f.box().clearance(x, y) == 0.0]
-            if not on:
-                if all(f.box().clearance(x, y) >= 0.05 for f in scenario.furniture):
-                    points.append((x, y, 0.05))
-                    support.append("floor")
-            elif on[0].kind == "table":
-                points.append((x, y, on[0].height + 0.05))
-                support.append(on[0].name)
-    return points, support

@@ -16,6 +16,8 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from sim.scenario import Scenario
+
 Point = tuple[float, float]
 
 SPACING = 0.40  # m between candidate poses
@@ -62,3 +64,26 @@ def cover(
         chosen.append(candidates[k])
         left &= ~views[k]
     return chosen
+
+
+def placement_points(
+    scenario: Scenario, spacing: float
+) -> tuple[list[tuple[float, float, float]], list[str]]:
+    """Where an item may lie: a lattice of ``spacing`` over the floor clear of furniture, and over
+    the top of every table; 5 cm above the surface (an item's middle)."""
+    x0, x1, y0, y1 = scenario.bounds
+    points, support = [], []
+    xs = np.arange(x0 + spacing / 2, x1, spacing)
+    ys = np.arange(y0 + spacing / 2, y1, spacing)
+    for x in xs:
+        for y in ys:
+            x, y = round(float(x), 3), round(float(y), 3)
+            on = [f for f in scenario.furniture if f.box().clearance(x, y) == 0.0]
+            if not on:
+                if all(f.box().clearance(x, y) >= 0.05 for f in scenario.furniture):
+                    points.append((x, y, 0.05))
+                    support.append("floor")
+            elif on[0].kind == "table":
+                points.append((x, y, on[0].height + 0.05))
+                support.append(on[0].name)
+    return points, support

@@ -30,28 +30,22 @@ from collections import Counter
 from dataclasses import dataclass, replace
 
 from tidyplan import commitment
-from tidyplan.belief import Belief, Detection
+from tidyplan.belief import Belief
 from tidyplan.errors import PlannerError
-from tidyplan.exec.geometry import deposit_waypoint
 from tidyplan.monitor.counting import Counters
-from tidyplan.monitor.triggers import Cause
+from tidyplan.monitor.deposits import inspect
+from tidyplan.monitor.goals import goals
+from tidyplan.monitor.triggers import Cause, check_assumptions
 from tidyplan.pddl import model as m
 from tidyplan.pddl.check import check_problem
 from tidyplan.pddl.reader import parse, read_domain, read_text
 from tidyplan.pddl.simulate import Simulator
 from tidyplan.planner import PlanResult, Status, Step
-from tidyplan.problem import Snapshot, robot_waypoint, write
+from tidyplan.problem import Snapshot, write
 from tidyplan.strata import STRATEGIES, transition
 from tidyplan.trace import polyline
 
 LOOKS_BEFORE_GIVING_UP = 3  # as many as the belief needs to forget an item that is not there
-# Items one plan is made for, at most: the paper's room. The commitment is one delivery, so a plan
-# over the nearest dozen serves as well as one over the whole room, and planning time stays that
-# of a 12-object room (a 48-object problem took Fast Downward 110 s here to plan for all at once).
-HORIZON = 12
-# Close looks into a deposit until every item believed there is seen: an item missed by all five
-# at the false-negative rate 0.2 happens 1 time in 3125
-LOOKS_INTO = 5
 
 
 @dataclass(frozen=True, slots=True)
@@ -210,33 +204,12 @@ class Mission:
         return "goal reached" + (f" ({len(unfound)} items of the prior never found)" if unfound else "")
 
     def _inspect_deposits(self) -> list[str]:
-        """Drive to each deposit that should hold items and look into it, up to LOOKS_INTO looks
-        until each believed item is seen; returns the items lost (not there)."""
+        """Look into every deposit that should hold items; the items lost (not there)."""
         lost: list[str] = []
         for d in self.belief.scenario.deposits:
-            if not self.belief.in_deposit(d.name):
-                continue
-            wp = deposit_waypoint(d.name)
-            step = Step("move", (self.belief.robot_wp, wp), False, 1, 1.0, 0.0)
-            report = self.executor.execute(step, self.snapshot, self.belief, self._observe)
-            self.count.action(step, report, False, False)
-            self.trace.emit("action", action=step.text, stratum=None, ok=report.ok, failure=report.failure,
-                            failure_class=report.failure_class, recoveries=report.recoveries,
-                            recovery_exhausted=report.recovery_exhausted, seconds=round(report.seconds, 2),
-                            metres=round(report.metres, 2), robot=list(map(_r, self.belief.robot)),
-                            purpose="inspect_deposit")  # fmt: skip
-            if not report.ok:
-                continue
-            believed = Counter(k.category for k in self.belief.in_deposit(d.name))
-            shown: dict[tuple, Detection] = {}  # distinct items over the looks, by category and place
-            for _ in range(LOOKS_INTO):
-                for det in self.world.look_into(d.name):
-                    shown.setdefault((det.category, round(det.x, 2), round(det.y, 2)), det)
-                if Counter(c for c, _, _ in shown) >= believed:
-                    break
-            confirmed, gone = self.belief.inspect_deposit(d.name, list(shown.values()))
-            self.trace.emit("inspect_deposit", deposit=d.name, confirmed=confirmed, lost=gone)
-            lost += gone
+            if self.belief.in_deposit(d.name):
+                lost += inspect(d.name, self.belief, self.executor, self.world, self.snapshot,
+                                self._observe, self.trace.emit, self.count)  # fmt: skip
         return lost
 
     # ------------------------------------------------------------------ planning
@@ -288,36 +261,10 @@ class Mission:
         return any(self.belief.should_see(k) for k in self.belief.untidied() if k.state == "placed")
 
     def _goals(self):
-        """Goals to try in order: in a room of more than HORIZON items, the HORIZON seen items
-        nearest the robot (and unseen ones up to HORIZON, a few of each category); everything;
-        the items seen; each seen item that can be planned for on its own (only those, together)."""
         facts = self.belief.facts()
-        seen = [k.name for k in self.belief.untidied() if k.state == "held" or k.name in facts.grasp]
-        virtual = self.belief.virtual() if self.belief.p_item_near(facts) else []
-        out = [("all", seen + [v for v, _ in virtual], virtual)]
-        if len(seen) + len(virtual) > HORIZON:
-            here = robot_waypoint(facts, self.belief)
-            far = float("inf")
-
-            def distance(g: str) -> tuple[int, float]:
-                """Items the robot can drive to now first, then those behind others; nearest first."""
-                if g == self.belief.holding:
-                    return (0, 0.0)
-                w = facts.grasp[g]
-                return (
-                    (0, facts.path[(here, w)])
-                    if (here, w) in facts.path
-                    else (1, facts.distance(here, w) or far)
-                )
-
-            near = sorted(seen, key=lambda g: (distance(g), g))[:HORIZON]
-            by_category = sorted(virtual, key=lambda v: (int(v[0].rsplit("-", 1)[1]), v[1]))
-            some = by_category[: HORIZON - len(near)]
-            out.insert(0, ("horizon", near + [v for v, _ in some], some))
-        if virtual:
-            out.append(("seen", seen, []))
-        self._facts, self._seen = facts, seen
-        return out + [("feasible", None, [])]
+        out = goals(self.belief, facts)
+        self._facts, self._seen = facts, out[-1][1]
+        return out[:-1] + [("feasible", None, [])]
 
     def _plan(
         self, goal, virtual, cause, why, label
@@ -438,24 +385,11 @@ class Mission:
         return unbound
 
     def _check_assumptions(self) -> str | None:
-        """assume-item-near o w holds when o (bound) is grasped from w; it is contradicted when
-        o is bound elsewhere, or when the robot has looked from w without finding o."""
-        facts = self.belief.facts()
-        for a in list(self.pending):
-            item, w = a.args
-            known = self.belief.items.get(item)
-            if known is not None:
-                ok = facts.grasp.get(item) == w
-            elif w in self.belief.looked_from:
-                ok = False
-            else:
-                continue
+        for a, ok, why in check_assumptions(self.pending, self.belief):
             self.pending.remove(a)
             self.trace.emit("assumption", action=a.text, holds=ok)
             if not ok:
-                return f"{a.text}: " + (
-                    f"{item} is at {facts.grasp.get(item)}" if known else f"not seen from {w}"
-                )
+                return why
         return None
 
     def _true_places(self) -> dict[str, list]:

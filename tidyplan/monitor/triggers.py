@@ -21,3 +21,26 @@ class Cause(Enum):
 
 
 REPLAN_CAUSES = tuple(c for c in Cause if c is not Cause.INITIAL)
+
+
+def check_assumptions(pending, belief) -> list[tuple[object, bool, str]]:
+    """(assumption, holds, why) for each pending ``assume-item-near o w`` the belief decides, in
+    order, up to the first contradicted (cause (iii)): it holds when o (bound) is grasped from w;
+    it is contradicted when o is bound elsewhere, or when the robot has looked from w without
+    finding o. The others wait."""
+    facts = belief.facts()
+    out = []
+    for a in pending:
+        item, w = a.args
+        known = belief.items.get(item)
+        if known is not None:
+            ok = facts.grasp.get(item) == w
+            why = f"{a.text}: {item} is at {facts.grasp.get(item)}"
+        elif w in belief.looked_from:
+            ok, why = False, f"{a.text}: not seen from {w}"
+        else:
+            continue
+        out.append((a, ok, why))
+        if not ok:
+            break
+    return out
