@@ -267,11 +267,7 @@ class Belief:
                 matched.add(k.name)
                 update.confirmed.append(k.name)
                 continue
-            name = self._revive(d)
-            if name is None:
-                self._serial[d.category] += 1
-                name = f"{d.category}-{self._serial[d.category]}"
-            self.items[name] = Known(name, d.category, d.x, d.y, d.on, d.sx, d.sy, d.sz)
+            name = self._add(d)
             matched.add(name)
             update.new.append(name)
         for k in self.untidied():
@@ -282,6 +278,32 @@ class Belief:
                 self.forget(k.name)
                 update.forgotten.append(k.name)
         return update
+
+    def _add(self, d: Detection) -> str:
+        name = self._revive(d)
+        if name is None:
+            self._serial[d.category] += 1
+            name = f"{d.category}-{self._serial[d.category]}"
+        self.items[name] = Known(name, d.category, d.x, d.y, d.on, d.sx, d.sy, d.sz)
+        return name
+
+    def bumped(self, d: Detection) -> str | None:
+        """What a close look around the robot found after its base ran into something (the head
+        camera cannot see so near): the believed item of that category nearest it, within
+        LOST_RADIUS, was knocked there; else it is an item never seen. Returns a new item's name."""
+        near = [
+            k
+            for k in self.items.values()
+            if k.state == "placed"
+            and k.category == d.category
+            and math.dist((k.x, k.y), (d.x, d.y)) <= LOST_RADIUS
+        ]
+        if near:
+            k = min(near, key=lambda k: (math.dist((k.x, k.y), (d.x, d.y)), k.name))
+            self.relocate(k.name, d.x, d.y)
+            k.on, k.sx, k.sy, k.sz = d.on, d.sx, d.sy, d.sz
+            return None
+        return self._add(d)
 
     def forget(self, name: str) -> None:
         """An item believed in a place that is not there (a false detection, or it moved)."""

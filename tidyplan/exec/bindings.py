@@ -28,6 +28,7 @@ from tidyplan.planner import Step
 from tidyplan.problem import Snapshot
 
 MOVES = ("move", "move_back")
+BUMP_RADIUS = 0.6  # m around the robot a close look searches after the base was stopped
 
 
 @dataclass(slots=True)
@@ -69,6 +70,15 @@ class MonitoredExecutor:
             belief.must_move_back = False  # the domain's effect: back where the item was taken
         if not result.ok:
             self._learn(step, snapshot, belief, result.failure.what)
+            if (
+                step.name in MOVES + ("possible_ego_pose_adjustment",)
+                and result.failure.what == "path_blocked"
+            ):
+                # what stopped the base may lie too close for the head camera: look around it
+                found = self.world.locate(belief.robot, BUMP_RADIUS)
+                new = belief.bumped(found) if found is not None else None
+                if new is not None:
+                    ctx.new.append(new)
         here = _waypoint_at(snapshot, belief)
         Runner(self.config, emit).run([Look(ctx, here)])
         return Report(
