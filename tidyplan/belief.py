@@ -396,18 +396,18 @@ class Belief:
                 return name
         return None
 
-    def should_see(self, k: Known) -> bool:
+    def should_see(self, k: Known, at: Point | None = None) -> bool:
+        """Would a look from ``at`` (default: where the robot is) see k if it were there?"""
+        at = self.robot if at is None else at
         s = self.scenario.sensing
         z = 0.05 if k.on == "floor" else self.scenario.furniture_named(k.on).height + 0.05
-        if math.dist(self.robot, (k.x, k.y)) > MISS_RANGE:
+        if math.dist(at, (k.x, k.y)) > MISS_RANGE:
             return False
         # Furniture, and the items it knows of, may hide k: a miss behind them is no evidence.
         occ = [b for b in self._occluders if b.name != k.on] + [
             self._box3(o) for o in self.untidied() if o.state == "placed" and o is not k
         ]
-        return visible(
-            self._camera(self.robot), (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max
-        )
+        return visible(self._camera(at), (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max)
 
     def _box3(self, k: Known) -> Box3:
         return Box3.from_item(k, 0.0 if k.on == "floor" else self.scenario.furniture_named(k.on).height)

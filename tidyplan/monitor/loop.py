@@ -41,7 +41,7 @@ from tidyplan.pddl.check import check_problem
 from tidyplan.pddl.reader import parse, read_domain, read_text
 from tidyplan.pddl.simulate import Simulator
 from tidyplan.planner import PlanResult, Status, Step
-from tidyplan.problem import Snapshot, write
+from tidyplan.problem import Snapshot, robot_waypoint, write
 from tidyplan.strata import STRATEGIES, transition
 from tidyplan.trace import polyline
 
@@ -85,6 +85,7 @@ class Mission:
         self._looks_left = LOOKS_BEFORE_GIVING_UP
         self._exhausted: Counter[tuple[str, str | None]] = Counter()  # (action, failure) -> times
         self._why: Counter[tuple[str, str]] = Counter()  # (cause, why) -> replans: what repeated
+        self._went_to_look: Counter[str] = Counter()  # item -> drives to look at it before giving up
         self._verified_at: int | None = None  # actions done when the deposits were last looked into
         self._plain = trace.save("domain.pddl", self.domain_text)
 
@@ -208,7 +209,7 @@ class Mission:
         lost: list[str] = []
         for d in self.belief.scenario.deposits:
             if self.belief.in_deposit(d.name):
-                lost += inspect(d.name, self.belief, self.executor, self.world, self.snapshot,
+                lost += inspect(d.name, self.belief, self.executor, self.world, self._map_now(),
                                 self._observe, self.trace.emit, self.count)  # fmt: skip
         return lost
 
@@ -249,12 +250,41 @@ class Mission:
             self.trace.emit("look_again", looks_left=self._looks_left)
             self._observe(self.world.look(), None)
             return self._replan(cause, why)
+        if self._go_and_look():
+            return self._replan(cause, why)
         if unlikely:
             best = max(unlikely)
             threshold = self.config.min_probability
             return f"no plan whose next commitment is likely enough: best {best:.2g} below {threshold:g}"
         left = [k.name for k in self.belief.untidied()] + [v for v, _ in self.belief.virtual()]
         return f"no plan for {' '.join(left)}" if left else "no plan"
+
+    def _map_now(self) -> Snapshot:
+        """The belief's map as it is, for a move the loop makes outside any plan."""
+        return write(self.belief, self.belief.facts(), [], [], "map-now")
+
+    def _go_and_look(self) -> bool:
+        """Before giving up on an item no plan reaches, drive to the nearest waypoint from which a
+        look should see it, and look (at most LOOKS_BEFORE_GIVING_UP times an item): a false
+        detection, or an item that moved, is forgotten there after a few looks that miss it."""
+        facts = self.belief.facts()
+        here = robot_waypoint(facts, self.belief)
+        for k in self.belief.untidied():
+            if k.state != "placed" or self._went_to_look[k.name] >= LOOKS_BEFORE_GIVING_UP:
+                continue
+            views = [
+                w for w, q in facts.points.items() if (here, w) in facts.path and self.belief.should_see(k, q)
+            ]
+            if not views:
+                continue
+            w = min(views, key=lambda w: (facts.path[(here, w)], w))
+            self._went_to_look[k.name] += 1
+            self.trace.emit("look_again", looks_left=0, item=k.name, waypoint=w)
+            step = Step("move", (here, w), False, 1, 1.0, 0.0)
+            report = self.executor.execute(step, self._map_now(), self.belief, self._observe)
+            self.count.action(step, report, self.belief.holding is not None, False)
+            return True
+        return False
 
     def _worth_looking(self) -> bool:
         """A look can change the belief: some believed item is in view and could be missed."""
