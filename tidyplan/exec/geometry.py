@@ -92,6 +92,7 @@ class RoomMap:
         self.scenario = scenario
         self.nav_radius = scenario.robot.radius + scenario.robot.nav_margin
         self.bare_radius = scenario.robot.radius
+        self._origin: Point = (0.0, 0.0)  # where reachability is counted from, set by facts()
         self._grids: dict[tuple[float, frozenset[Box]], OccupancyGrid] = {}
         static = self.grid(())
         self.entrance = static.nearest_free(*scenario.entrance)
@@ -140,7 +141,13 @@ class RoomMap:
         floor = [p.box() for p in items if p.on == "floor"]
         nav, static, bare = self.grid(floor), self.grid(()), self.grid(floor, bare=True)
         facts = MapFacts(points=dict(self.fixed), kind=dict(self.fixed_kind))
-        reachable = set(nav.free_cells(reachable_from=self.entrance))
+        # Reachable from where the robot is, not from the entrance: an item that fell by the door
+        # shuts the entrance's cell, not the room (case III with faults had no grasp pose left).
+        self._origin = self.entrance
+        if robot is not None and not nav.free(*self.entrance):
+            q = robot[1]
+            self._origin = q if nav.free(*q) else nav.nearest_free(*q)
+        reachable = set(nav.free_cells(reachable_from=self._origin))
         for p in sorted(items, key=lambda p: p.name):
             bad = (avoid or {}).get(p.name, [])
             self._add_grasp(facts, p, floor, nav, static, bare, reachable, (sticky or {}).get(p.name), bad)
@@ -189,7 +196,7 @@ class RoomMap:
         # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
         # its paths would be blocked by the item to be taken from there (no plan could start)
         own = self.grid([p.box()]) if p.on == "floor" else static
-        room = set(own.free_cells(reachable_from=self.entrance))
+        room = set(own.free_cells(reachable_from=self._origin if own.free(*self._origin) else self.entrance))
         later = [c for c in crossing if c in room]
         if previous in later:
             later = [previous]
@@ -253,9 +260,7 @@ class RoomMap:
 
     def _adjust_into(self, facts: MapFacts, name: str, nav: OccupancyGrid) -> None:
         target = facts.points[name]
-        cells = [
-            c for c in nav.free_cells(reachable_from=self.entrance) if math.dist(c, target) <= ADJUST_MAX
-        ]
+        cells = [c for c in nav.free_cells(reachable_from=self._origin) if math.dist(c, target) <= ADJUST_MAX]
         if not cells:
             return
         base = min(cells, key=lambda c: (math.dist(c, target), c))
