@@ -179,13 +179,14 @@ class Mission:
             self.trace.emit("plan_kept", steps=len(self.steps))
         return None
 
-    def _finished(self) -> str | None:
+    def _finished(self, unreachable: bool = False) -> str | None:
         """The plan ran out, or nothing is left to plan for: explore again while the prior names
-        items nobody found, look into the deposits, then ask the referee for its verdict."""
+        items nobody found, look into the deposits, then ask the referee for its verdict.
+        ``unreachable``: no plan reaches the unseen space left, so a new round is the next step."""
         if self.belief.untidied():
             return self._replan(Cause.PLAN_INVALID, "plan done, items remain")
         unfound = self.belief.virtual()
-        if unfound and self.belief.explorable():
+        if unfound and self.belief.explorable() and not unreachable:
             return self._replan(Cause.PLAN_INVALID, "plan done, room not explored")
         if unfound:
             added = self.belief.explore_again()
@@ -256,6 +257,8 @@ class Mission:
             best = max(unlikely)
             threshold = self.config.min_probability
             return f"no plan whose next commitment is likely enough: best {best:.2g} below {threshold:g}"
+        if not self.belief.untidied():  # only unseen items left, and no plan reaches them
+            return self._finished(unreachable=True)
         left = [k.name for k in self.belief.untidied()] + [v for v, _ in self.belief.virtual()]
         return f"no plan for {' '.join(left)}" if left else "no plan"
 
