@@ -34,7 +34,9 @@ DOMAIN_TEXT = """
   (:action take :parameters (?t - toy) :probability 0.9
     :precondition (and (here ?t) (free)) :effect (and (held ?t) (not (here ?t)) (not (free))))
   (:action put :parameters (?t - toy) :probability 0.8
-    :precondition (held ?t) :effect (and (away ?t) (free) (not (held ?t)))))
+    :precondition (held ?t) :effect (and (away ?t) (free) (not (held ?t))))
+  (:assumption guess :parameters (?t - toy) :probability 0.5
+    :precondition (here ?t) :effect (here ?t)))
 """
 PROBLEM_TEXT = """
 (define (problem two) (:domain toys)
@@ -108,3 +110,13 @@ def test_two_room_wrs_rooms_of_24_and_96_objects_do_not_give_up_at_the_start(tmp
     adopted = [p for p in plans if p["adopted"]]
     assert adopted and adopted[0]["commitment_probability"] >= 1e-4
     assert len(scenario.items) == 8 * per_room
+
+
+def test_assumptions_about_objects_the_committed_actions_do_not_use_are_not_committed_to():
+    domain, problem = parse(DOMAIN_TEXT, "d.pddl"), parse(PROBLEM_TEXT, "p.pddl")
+    sim = Simulator(domain, problem)
+    guess_b = Step("guess", ("b",), True, 1, 0.01, 0.0)  # an assumption the planner put first
+    guess_a = Step("guess", ("a",), True, 1, 0.5, 0.0)
+    steps = [guess_b, guess_a, _step("take", "a", p=0.9), _step("put", "a", p=0.8), _step("take", "b", p=0.9)]
+    committed = commitment(steps, sim, sim.initial_state(problem), problem.goal)
+    assert committed == (guess_a, steps[2], steps[3])

@@ -35,15 +35,21 @@ def goal_atoms(goal: m.Formula) -> list[m.Formula]:
 
 def commitment(steps: Sequence[Step], sim: Simulator, state: State, goal: m.Formula) -> tuple[Step, ...]:
     """The plan's steps up to and including the first that makes a goal conjunct true that was
-    false before it; the whole plan when no step does (nothing to commit to short of its end)."""
+    false before it (the whole plan when no step does), less the assumptions about objects none
+    of those actions uses: a planner may put every assumption first, but the robot commits only
+    to those its next actions rely on (an assumption's first argument is its object)."""
     open_ = [g for g in goal_atoms(goal) if not sim.holds(g, state)]
+    prefix = tuple(steps)
     for i, s in enumerate(steps):
         if not sim.applicable(state, s.name, s.args):
-            return tuple(steps[: i + 1])  # an ill-formed plan: commit to nothing beyond this
+            prefix = tuple(steps[: i + 1])  # an ill-formed plan: commit to nothing beyond this
+            break
         state = sim.apply(state, s.name, s.args)
         if any(sim.holds(g, state) for g in open_):
-            return tuple(steps[: i + 1])
-    return tuple(steps)
+            prefix = tuple(steps[: i + 1])
+            break
+    used = {a for s in prefix if not s.assumption for a in s.args}
+    return tuple(s for s in prefix if not s.assumption or (s.args and s.args[0] in used))
 
 
 def probability(steps: Sequence[Step]) -> float:
