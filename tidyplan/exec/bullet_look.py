@@ -15,7 +15,6 @@ from tidyplan.belief import Detection
 
 Point = tuple[float, float]
 
-ITEM_TOP = 0.15  # m above its surface: the top of the tallest small object (the WRS ones, 5-15 cm)
 AROUND, AROUND_LOOK = 0.3, 0.6  # m: a place this close is "around the robot"; looked at this far out
 RECOGNISE_S = 1.0  # s: object recognition on one camera frame (the symbolic world's locate)
 PANS = (1.75, 0.80, -0.15, -1.10, -2.05, -3.00, -3.84)  # head pan stops of a sweep: 58 deg frames overlap
@@ -149,12 +148,8 @@ class HeadCamera:
         return found
 
     def _too_close(self, near: Point, surface: float) -> bool:
-        """Is the place nearer the lens than the camera's minimum range? Measured to the top of a
-        tall small object (ITEM_TOP above the surface), not its middle: the camera sees an object
-        by points all over it, and on the tall table those of a 10 cm object stood 2 cm inside
-        the range while its middle was outside, so no close look from there ever saw it."""
         eye = self.hsr.camera()[0]
-        return math.dist(eye, (near[0], near[1], surface + ITEM_TOP)) < self.camera.range_min + 0.02
+        return math.dist(eye, (near[0], near[1], surface + 0.05)) < self.camera.range_min + 0.02
 
     def _targets(self) -> dict[str, tuple[int, list]]:
         return {
