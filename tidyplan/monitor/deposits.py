@@ -13,23 +13,33 @@ from collections import Counter
 from tidyplan.belief import Belief, Detection
 from tidyplan.exec.geometry import deposit_waypoint
 from tidyplan.planner import Step
+from tidyplan.trace import polyline
 
 # Close looks into a deposit until every item believed there is seen: an item missed by all five
 # at the false-negative rate 0.2 happens 1 time in 3125
 LOOKS_INTO = 5
 
 
-def inspect(deposit: str, belief: Belief, executor, world, snapshot, observe, emit, count) -> list[str]:
-    """Drive to ``deposit`` (an action of its own in the trace) and look into it up to LOOKS_INTO
-    times until each item believed there is seen; returns the items lost (not there)."""
-    step = Step("move", (belief.robot_wp, deposit_waypoint(deposit)), False, 1, 1.0, 0.0)
+def move(to: str, purpose: str, belief: Belief, executor, world, snapshot, observe, emit, count):
+    """A move the loop makes outside any plan (to look into a deposit, or at an item no plan
+    reaches), run and traced as an action of its own; returns the executor's report."""
+    step = Step("move", (belief.robot_wp, to), False, 1, 1.0, 0.0)
+    since = len(world.odometer.track)
     report = executor.execute(step, snapshot, belief, observe)
-    count.action(step, report, False, False)
+    count.action(step, report, belief.holding is not None, False)
     emit("action", action=step.text, stratum=None, ok=report.ok, failure=report.failure,
          failure_class=report.failure_class, recoveries=report.recoveries,
          recovery_exhausted=report.recovery_exhausted, seconds=round(report.seconds, 2),
          metres=round(report.metres, 2), robot=[round(v, 3) for v in belief.robot],
-         purpose="inspect_deposit")  # fmt: skip
+         path=polyline(world.odometer.track[since:]), purpose=purpose)  # fmt: skip
+    return report
+
+
+def inspect(deposit: str, belief: Belief, executor, world, snapshot, observe, emit, count) -> list[str]:
+    """Drive to ``deposit`` (an action of its own in the trace) and look into it up to LOOKS_INTO
+    times until each item believed there is seen; returns the items lost (not there)."""
+    wp = deposit_waypoint(deposit)
+    report = move(wp, "inspect_deposit", belief, executor, world, snapshot, observe, emit, count)
     if not report.ok:
         return []
     believed = Counter(k.category for k in belief.in_deposit(deposit))

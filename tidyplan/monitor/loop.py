@@ -33,7 +33,7 @@ from tidyplan import commitment
 from tidyplan.belief import Belief
 from tidyplan.errors import PlannerError
 from tidyplan.monitor.counting import Counters
-from tidyplan.monitor.deposits import inspect
+from tidyplan.monitor.deposits import inspect, move
 from tidyplan.monitor.goals import goals
 from tidyplan.monitor.triggers import Cause, check_assumptions
 from tidyplan.pddl import model as m
@@ -216,6 +216,8 @@ class Mission:
 
     # ------------------------------------------------------------------ planning
     def _replan(self, cause: Cause, why: str = "") -> str | None:
+        if not self.belief.untidied() and not (self.belief.virtual() and self.belief.explorable()):
+            return self._finished()  # nothing to plan for (the last item a false detection, say)
         if cause is not Cause.INITIAL:
             self.count.replans += 1
             self.count.causes[cause.value] = self.count.causes.get(cause.value, 0) + 1
@@ -225,8 +227,6 @@ class Mission:
             return f"plan limit {self.config.max_plans} reached; most repeated: {c} ({w}) {n} times"
         self.pending.clear()
         self.bound.clear()
-        if not self.belief.untidied() and not (self.belief.virtual() and self.belief.explorable()):
-            return self._finished()  # nothing to plan for: e.g. the last item was a false detection
         unlikely: list[float] = []
         for label, goal, virtual in self._goals():
             if not goal:
@@ -283,9 +283,8 @@ class Mission:
             w = min(views, key=lambda w: (facts.path[(here, w)], w))
             self._went_to_look[k.name] += 1
             self.trace.emit("look_again", looks_left=0, item=k.name, waypoint=w)
-            step = Step("move", (here, w), False, 1, 1.0, 0.0)
-            report = self.executor.execute(step, self._map_now(), self.belief, self._observe)
-            self.count.action(step, report, self.belief.holding is not None, False)
+            move(w, "look_again", self.belief, self.executor, self.world, self._map_now(),
+                 self._observe, self.trace.emit, self.count)  # fmt: skip
             return True
         return False
 
