@@ -1,6 +1,7 @@
 """O-FSM strata rank plans lexicographically (Yan et al., Eq. 1, P1 ⊂ P2 ⊂ P3)."""
 
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
@@ -103,6 +104,19 @@ def test_a_search_that_gives_up_moves_on_but_says_so():
     assert attempts[0].outcome is Outcome.GAVE_UP
 
 
+def test_a_search_out_of_time_ends_the_call_when_escalation_is_held_back():
+    # the mission's first tries: P2 only once P1 is proven empty, never because P1 was slow
+    domain, prob = read(TIDY, ROOT / "problems" / "tidy-p1.pddl")
+    task = compile_task(domain, prob)
+    outcomes = iter([Outcome.GAVE_UP, Outcome.SOLVED])
+    result, stratum, attempts = plan_by_strata(task, lambda sub: (next(outcomes), "p", 0.0), None, False)
+    assert (result, stratum) == (None, None)
+    assert [a.outcome for a in attempts] == [Outcome.GAVE_UP]
+    outcomes = iter([Outcome.UNSOLVABLE, Outcome.SOLVED])
+    _, stratum, _ = plan_by_strata(task, lambda sub: (next(outcomes), "p", 0.0), None, False)
+    assert stratum == 2  # a proof still hands over
+
+
 def test_table_one_transitions():
     assert transition(1, 2) == "p_d unreachable"
     assert transition(2, 3) == "p_i unreachable"
@@ -128,3 +142,25 @@ def test_an_incomplete_search_that_finds_nothing_proves_nothing(monkeypatch):
     assert [a.outcome for a in result.attempts] == [Outcome.GAVE_UP] * 3
     monkeypatch.setattr(planner, "run", fake(UpStatus.UNSOLVABLE_PROVEN))
     assert plan(domain, prob).status is Status.NO_PLAN
+
+
+def test_the_mission_retries_a_slow_stratum_before_it_may_hand_over(monkeypatch):
+    """Budgets grow threefold; the first STRICT_TRIES never escalate past a stratum out of time,
+    so a loaded machine follows the same plan as an idle one."""
+    import tidyplan.mission as mission
+
+    calls = []
+
+    def fake(domain, problem, engine, budget, max_stratum, escalate_unproven=True):
+        calls.append((budget, escalate_unproven))
+        status = Status.SOLVED if len(calls) == 3 else Status.UNKNOWN
+        return SimpleNamespace(status=status)
+
+    monkeypatch.setattr(mission, "plan", fake)
+    assert mission.plan_with_retries(None, None, "lama", 1.0, None).status is Status.SOLVED
+    assert calls == [(1.0, False), (3.0, False), (9.0, True)]
+    calls.clear()
+    unknown = SimpleNamespace(status=Status.UNKNOWN)
+    monkeypatch.setattr(mission, "plan", lambda *a, **k: calls.append(a[3]) or unknown)
+    assert mission.plan_with_retries(None, None, "lama", 1.0, None).status is Status.UNKNOWN
+    assert calls == [1.0, 3.0, 9.0, 27.0, 81.0]

@@ -216,6 +216,8 @@ def _progress(total: int):
 
 def _print_summary(s: dict) -> None:
     strata = ", ".join(f"{k} {v}" for k, v in s["strata"].items())
+    if s.get("strata_unproven"):
+        strata += f" ({s['strata_unproven']} with a lower stratum out of time, not proven empty)"
     causes = ", ".join(f"{k} {v}" for k, v in s["replan_causes"].items()) or "none"
     print(
         f"{s['scenario']} ({s['strategy']}, seed {s['seed']}): "
@@ -271,6 +273,12 @@ def _print_table2(rows, seed: int) -> None:
             f"{case:5} {p1:>4} | {st['P1']:<2} {p2:>4} | {st['P2']:<2} {p3:>4} | {st['P3']:<2} "
             f"{total:>5} | {s['paper_actions']:<3} {s['actions']:>18} {s['replans']:>8} "
             f"{s['delivered']:>4}/{s['objects']:<2} {greedy:>12}"
+        )
+    unproven = {case: o["ofsm"].get("strata_unproven", 0) for case, o in rows}
+    if any(unproven.values()):
+        print(
+            "deliveries whose stratum was reached with a lower one out of time (not proven to have "
+            "no plan), counted above too: " + ", ".join(f"{c} {n}" for c, n in unproven.items() if n)
         )
     print(
         "actions: Yan et al.'s count (take_object includes the approach; P1 = 3, P2 = 4, P3 = 4 per "

@@ -21,10 +21,14 @@ from tidyplan.exec.symbolic import SymbolicWorld
 from tidyplan.exec.world import Rates
 from tidyplan.monitor.loop import LoopConfig, Mission
 from tidyplan.monitor.recovery import RecoveryConfig
-from tidyplan.planner import Status, plan
+from tidyplan.planner import PlanResult, Status, plan
 from tidyplan.trace import TraceWriter
 
 RETRIES = 5  # budgets 1x, 3x, 9x, 27x, 81x: a search that ran out of time is tried again, longer
+# Tries before a stratum that ran out of time may hand over to the next one unproven: until
+# then a P2 plan is used only when P1 is proven to have none (under load, or at scale, a P1
+# search that is merely slow must not change the plan the robot follows).
+STRICT_TRIES = 2
 
 
 def project_file(relative: str) -> Path:
@@ -86,15 +90,7 @@ def _run(scenario, room, world, trace_path, settings, domain, on_event, started)
     belief = Belief(scenario, room)  # told the static room and the prior, never the items
 
     def planner(d, p, max_stratum):
-        # A search that ran out of time proves nothing: try again with more time before the
-        # loop takes "no plan" for an answer (narrowing the goal, or giving up).
-        budget = settings.time_budget
-        for _ in range(RETRIES):
-            result = plan(d, p, settings.planner, budget, max_stratum)
-            if result.status is not Status.UNKNOWN:
-                break
-            budget *= 3
-        return result
+        return plan_with_retries(d, p, settings.planner, settings.time_budget, max_stratum)
 
     with TraceWriter(trace_path, clock=lambda: world.odometer.sim_time_s) as trace:
         if on_event is not None:
@@ -106,6 +102,20 @@ def _run(scenario, room, world, trace_path, settings, domain, on_event, started)
         summary = _summary(scenario, settings, world, belief, mission, outcome, started, trace.path)
         trace.emit("summary", **summary)
     return summary
+
+
+def plan_with_retries(domain, problem, engine: str, time_budget: float, max_stratum) -> PlanResult:
+    """The mission's planner call. A search that ran out of time proves nothing: it is tried
+    again with three times the budget before the loop takes "no plan" for an answer (narrowing
+    the goal, or giving up); in the first STRICT_TRIES a stratum out of time ends the try."""
+    budget = time_budget
+    for attempt in range(RETRIES):
+        escalate = attempt >= STRICT_TRIES
+        result = plan(domain, problem, engine, budget, max_stratum, escalate_unproven=escalate)
+        if result.status is not Status.UNKNOWN:
+            break
+        budget *= 3
+    return result
 
 
 def _summary(scenario, settings, world, belief, mission, outcome, started, trace_path) -> dict:
@@ -125,6 +135,7 @@ def _summary(scenario, settings, world, belief, mission, outcome, started, trace
         "actions": count.actions,
         "paper_actions": count.paper_actions,
         "strata": dict(count.strata),
+        "strata_unproven": count.unproven,
         "replans": count.replans,
         "replan_causes": dict(sorted(count.causes.items())),
         "replans_avoided": count.replans_avoided,

@@ -105,6 +105,7 @@ def plan(
     time_budget: float = DEFAULT_TIME_BUDGET,
     max_stratum: int | None = None,
     strata: bool = True,
+    escalate_unproven: bool = True,
 ) -> PlanResult:
     """One plan for the task, ranked by strata, then by the criterion.
 
@@ -114,6 +115,8 @@ def plan(
 
     With `strata=False` every operator is available at once and only the
     criterion ranks plans: what the O-FSM ranking would cost, for comparison.
+    `escalate_unproven=False`: a stratum that ran out of time ends the call (status
+    UNKNOWN) instead of handing over to the next (`tidyplan.strata.plan_by_strata`).
     """
     start = time.perf_counter()
     task = compile_task(domain, problem)
@@ -127,7 +130,7 @@ def plan(
         return outcome, steps, time.perf_counter() - t0
 
     if strata:
-        steps, stratum, attempts = plan_by_strata(task, solve, max_stratum)
+        steps, stratum, attempts = plan_by_strata(task, solve, max_stratum, escalate_unproven)
     else:
         flat = task if max_stratum is None else task.restrict(max_stratum)
         outcome, steps, seconds = solve(flat)

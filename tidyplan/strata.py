@@ -45,12 +45,15 @@ def plan_by_strata(
     task: CompiledTask,
     solve: Callable[[CompiledTask], tuple[Outcome, R | None, float]],
     max_stratum: int | None = None,
+    escalate_unproven: bool = True,
 ) -> tuple[R | None, int | None, list[Attempt]]:
     """Solve with strata 1..K for K = 1, 2, ...; return the first plan found.
 
     `solve` runs one planner call on a restricted task and says how it ended.
-    An attempt that gave up without proof also moves on to the next stratum:
-    the trace shows it (`Attempt.outcome`), so a user can raise the budget.
+    With `escalate_unproven`, an attempt that gave up without proof also moves on to the next
+    stratum: the attempts show it (`Attempt.outcome`), so a user can raise the budget. Without
+    it the search stops there: a caller that can try again with more time (the mission) keeps
+    Occam's razor, a stratum K+1 plan only once 1..K is proven to have none.
     """
     attempts: list[Attempt] = []
     for k in task.strata:
@@ -60,9 +63,15 @@ def plan_by_strata(
         attempts.append(Attempt(k, outcome, seconds))
         if outcome is Outcome.SOLVED:
             return result, k, attempts
-        if outcome is Outcome.ERROR:
+        if outcome is Outcome.ERROR or (outcome is Outcome.GAVE_UP and not escalate_unproven):
             break
     return None, None, attempts
+
+
+def unproven_below(attempts) -> bool:
+    """Did a lower stratum give up without proof before the one that planned? (the plan may not
+    be the one Occam's razor picks: Table II counts such deliveries apart)."""
+    return any(a.outcome is Outcome.GAVE_UP for a in attempts[:-1])
 
 
 # Table I of the O-FSM paper: (from plan, to plan) → why the robot switches.

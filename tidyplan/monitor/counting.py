@@ -23,6 +23,10 @@ class Counters:
     strata: dict[str, int] = field(default_factory=lambda: {"P1": 0, "P2": 0, "P3": 0})
     paper_actions: int = 0  # Yan et al.'s count: the approach move is part of take_object
     segment: int = 1  # highest stratum used since the last delivery
+    # deliveries (counted in ``strata`` too) whose stratum was reached with a lower one only out
+    # of time, not proven to have no plan: Table II keeps them apart
+    unproven: int = 0
+    segment_unproven: bool = False
 
     def action(self, step: Step, report, carrying: bool, must_move_back: bool) -> None:
         """One executed action: ``carrying`` and ``must_move_back`` as the belief has them after it
@@ -34,7 +38,8 @@ class Counters:
             self.paper_actions += 1
         if report.ok and step.name == "deliver_it":
             self.strata[f"P{self.segment}"] += 1
-            self.segment = 1
+            self.unproven += self.segment_unproven
+            self.segment, self.segment_unproven = 1, False
 
     def plan_time_summary(self) -> dict:
         t = self.plan_times

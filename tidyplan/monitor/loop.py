@@ -42,7 +42,7 @@ from tidyplan.pddl.reader import parse, read_domain, read_text
 from tidyplan.pddl.simulate import Simulator
 from tidyplan.planner import PlanResult, Status, Step
 from tidyplan.problem import Snapshot, robot_waypoint, write
-from tidyplan.strata import STRATEGIES, transition
+from tidyplan.strata import STRATEGIES, transition, unproven_below
 from tidyplan.trace import polyline
 
 LOOKS_BEFORE_GIVING_UP = 3  # as many as the belief needs to forget an item that is not there
@@ -83,6 +83,7 @@ class Mission:
         self.bound: dict[str, str] = {}  # virtual object -> seen item
         self.stratum: int | None = None
         self._looks_left = LOOKS_BEFORE_GIVING_UP
+        self._unblocked = False  # blocked moves forgotten since the last plan adopted
         self._exhausted: Counter[tuple[str, str | None]] = Counter()  # (action, failure) -> times
         self._why: Counter[tuple[str, str]] = Counter()  # (cause, why) -> replans: what repeated
         self._went_to_look: Counter[str] = Counter()  # item -> drives to look at it before giving up
@@ -238,11 +239,18 @@ class Mission:
                 unlikely.append(p)
                 continue
             self._adopt(result, snap, problem)
-            self._looks_left = LOOKS_BEFORE_GIVING_UP
+            self._looks_left, self._unblocked = LOOKS_BEFORE_GIVING_UP, False
             return None
         if self.belief.virtual() and self.belief.scene_changed:
             self.belief.reset_exploration()  # items moved: views blocked before may be open now
             self.trace.emit("explore_again", unseen=len(self.belief.virtual()))
+            return self._replan(cause, why)
+        if self.belief.blocked_moves and not self._unblocked:
+            # The moves found blocked were believed, not proven for good (a transient obstacle,
+            # an item since moved): before the goal shrinks, plan once more without them.
+            self._unblocked = True
+            self.trace.emit("unblock", moves=len(self.belief.blocked_moves))
+            self.belief.blocked_moves.clear()
             return self._replan(cause, why)
         if self._looks_left > 0 and self._worth_looking():
             # Before giving up, look again from here: an item believed in the way that is not
@@ -334,6 +342,8 @@ class Mission:
             planning_time_s=round(seconds, 3),
             stratum=result.stratum,
             transition=transition(previous, result.stratum) if result.stratum else None,
+            attempts=[[a.stratum, a.outcome.value, round(a.seconds, 3)] for a in result.attempts],
+            unproven_below=unproven_below(result.attempts),
             cost=result.score.cost if result.score else None,
             probability=round(result.score.probability, 6) if result.score else None,
             commitment_probability=round(p_commit, 6) if result.score else None,
@@ -361,6 +371,8 @@ class Mission:
     def _adopt(self, result: PlanResult, snap: Snapshot, problem: m.Problem) -> None:
         self.snapshot, self.steps = snap, list(result.steps)
         self.stratum = result.stratum
+        if unproven_below(result.attempts):
+            self.count.segment_unproven = True
         self.sim = Simulator(self.domain, problem)
         self.goal = list(snap.goal)  # item names; renamed as virtual objects are bound
 
