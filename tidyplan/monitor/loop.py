@@ -27,21 +27,21 @@ from __future__ import annotations
 import os
 import time
 from collections import Counter
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from tidyplan import commitment
 from tidyplan.belief import Belief
 from tidyplan.errors import PlannerError
 from tidyplan.monitor.counting import Counters
-from tidyplan.monitor.deposits import inspect, move
 from tidyplan.monitor.goals import goals
-from tidyplan.monitor.triggers import Cause, check_assumptions
+from tidyplan.monitor.looking import go_and_look, inspect
+from tidyplan.monitor.triggers import Cause, bind, check_assumptions
 from tidyplan.pddl import model as m
 from tidyplan.pddl.check import check_problem
 from tidyplan.pddl.reader import parse, read_domain, read_text
 from tidyplan.pddl.simulate import Simulator
 from tidyplan.planner import PlanResult, Status, Step
-from tidyplan.problem import Snapshot, robot_waypoint, write
+from tidyplan.problem import Snapshot, write
 from tidyplan.strata import STRATEGIES, transition, unproven_below
 from tidyplan.trace import polyline
 
@@ -79,6 +79,7 @@ class Mission:
         self.count = Counters()
         self.snapshot: Snapshot | None = None
         self.steps: list[Step] = []
+        self.goal: list[str] = []  # the adopted plan's goal items
         self.pending: list[Step] = []  # assumptions passed in the plan, not yet confirmed
         self.bound: dict[str, str] = {}  # virtual object -> seen item
         self.stratum: int | None = None
@@ -275,26 +276,11 @@ class Mission:
         return write(self.belief, self.belief.facts(), [], [], "map-now")
 
     def _go_and_look(self) -> bool:
-        """Before giving up on an item no plan reaches, drive to the nearest waypoint from which a
-        look should see it, and look (at most LOOKS_BEFORE_GIVING_UP times an item): a false
-        detection, or an item that moved, is forgotten there after a few looks that miss it."""
-        facts = self.belief.facts()
-        here = robot_waypoint(facts, self.belief)
-        for k in self.belief.untidied():
-            if k.state != "placed" or self._went_to_look[k.name] >= LOOKS_BEFORE_GIVING_UP:
-                continue
-            views = [
-                w for w, q in facts.points.items() if (here, w) in facts.path and self.belief.should_see(k, q)
-            ]
-            if not views:
-                continue
-            w = min(views, key=lambda w: (facts.path[(here, w)], w))
-            self._went_to_look[k.name] += 1
-            self.trace.emit("look_again", looks_left=0, item=k.name, waypoint=w)
-            move(w, "look_again", self.belief, self.executor, self.world, self._map_now(),
-                 self._observe, self.trace.emit, self.count)  # fmt: skip
-            return True
-        return False
+        """Before giving up on an item no plan reaches, look at it from where it should be seen
+        (``looking.go_and_look``), at most LOOKS_BEFORE_GIVING_UP times an item."""
+        b, went, most = self.belief, self._went_to_look, LOOKS_BEFORE_GIVING_UP
+        return go_and_look(b, went, most, self.executor, self.world, self._map_now(), self._observe,
+                           self.trace.emit, self.count)  # fmt: skip
 
     def _worth_looking(self) -> bool:
         """A look can change the belief: some believed item is in view and could be missed."""
@@ -402,30 +388,12 @@ class Mission:
         return update.new
 
     def _bind(self, new: list[str]) -> list[str]:
-        """Bind new items to the plan's virtual objects of their category; return the rest that
-        the plan could use (an item of a category the room should hold)."""
-        unbound = []
-        planned = {a for s in self.steps + self.pending for a in s.args}
-        for name in new:
-            cat = self.belief.items[name].category
-            match = [
-                v
-                for v, c in (self.snapshot.virtual if self.snapshot else ())
-                if c == cat and v in planned and v not in self.bound
-            ]
-            if match:
-                v = match[0]
-                self.bound[v] = name
-                self.steps = [_rename(s, v, name) for s in self.steps]
-                self.pending = [_rename(s, v, name) for s in self.pending]
-                # The plan's assumption about v, still ahead, can be checked at once.
-                ahead = [s for s in self.steps if s.assumption and name in s.args]
-                self.steps = [s for s in self.steps if s not in ahead]
-                self.pending += ahead
-                self.goal = [name if g == v else g for g in self.goal]
-                self.trace.emit("bind", virtual=v, item=name)
-            elif cat in self.belief.categories:
-                unbound.append(name)
+        """Bind new items to the plan's virtual objects (``triggers.bind``); the rest the plan
+        could use, cause (v)."""
+        virtual = self.snapshot.virtual if self.snapshot else ()
+        self.steps, self.pending, self.goal, unbound = bind(
+            new, self.steps, self.pending, self.goal, virtual, self.bound, self.belief, self.trace.emit
+        )
         return unbound
 
     def _check_assumptions(self) -> str | None:
@@ -441,10 +409,6 @@ class Mission:
         name -> [state, x, y], state ``placed``, ``held`` or ``tidied:<deposit>``."""
         found = {name: self.world.where(name) for name in sorted(self.world.items)}
         return {n: [state, _r(x), _r(y)] for n, (state, (x, y)) in found.items()}
-
-
-def _rename(step: Step, old: str, new: str) -> Step:
-    return replace(step, args=tuple(new if a == old else a for a in step.args))
 
 
 def _r(x: float) -> float:

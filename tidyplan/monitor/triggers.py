@@ -8,6 +8,7 @@ brings an object that the plan can use and that binds to no virtual object in it
 
 from __future__ import annotations
 
+from dataclasses import replace
 from enum import Enum
 
 
@@ -44,3 +45,34 @@ def check_assumptions(pending, belief) -> list[tuple[object, bool, str]]:
         if not ok:
             break
     return out
+
+
+def bind(new, steps, pending, goal, virtual, bound, belief, emit):
+    """Goebelbecker's binding: each new item of a category that a virtual object of the plan
+    stands for (one the steps still use, not bound yet) takes its place, in the steps, the
+    pending assumptions and the goal; the plan's assumption about it, still ahead, becomes
+    pending, to be checked at once. ``bound`` (virtual -> item) is updated in place. Returns
+    (steps, pending, goal, unbound): the new items left that the plan could use (a category the
+    room should hold), each a cause (v)."""
+    unbound = []
+    planned = {a for s in steps + pending for a in s.args}
+    for name in new:
+        cat = belief.items[name].category
+        match = [v for v, c in virtual if c == cat and v in planned and v not in bound]
+        if match:
+            v = match[0]
+            bound[v] = name
+            steps = [_rename(s, v, name) for s in steps]
+            pending = [_rename(s, v, name) for s in pending]
+            ahead = [s for s in steps if s.assumption and name in s.args]
+            steps = [s for s in steps if s not in ahead]
+            pending += ahead
+            goal = [name if g == v else g for g in goal]
+            emit("bind", virtual=v, item=name)
+        elif cat in belief.categories:
+            unbound.append(name)
+    return steps, pending, goal, unbound
+
+
+def _rename(step, old: str, new: str):
+    return replace(step, args=tuple(new if a == old else a for a in step.args))

@@ -1,9 +1,12 @@
-"""Before a mission ends, the robot looks into the deposits (docs/loop.md, "Exploration").
+"""Moves and looks the loop makes outside any plan (docs/loop.md, "Exploration").
 
-An item the belief marked tidied can leave its tray without the robot seeing it (knocked out by
-the next one put in, or by a fall). The loop drives to each deposit that should hold items and
-looks into it, several close looks until every item believed there has been seen; an item that
-none shows is lost to the belief, to be found and tidied again.
+- Before a mission ends, the robot looks into the deposits. An item the belief marked tidied can
+  leave its tray without the robot seeing it (knocked out by the next one put in, or by a
+  fall). The loop drives to each deposit that should hold items and looks into it, several
+  close looks until every item believed there has been seen; an item that none shows is lost
+  to the belief, to be found and tidied again.
+- Before it gives up on an item no plan reaches, the robot drives to a waypoint from which a
+  look should see it, and looks: a false detection, or an item that moved, is forgotten there.
 """
 
 from __future__ import annotations
@@ -13,6 +16,7 @@ from collections import Counter
 from tidyplan.belief import Belief, Detection
 from tidyplan.exec.geometry import deposit_waypoint
 from tidyplan.planner import Step
+from tidyplan.problem import robot_waypoint
 from tidyplan.trace import polyline
 
 # Close looks into a deposit until every item believed there is seen: an item missed by all five
@@ -52,3 +56,23 @@ def inspect(deposit: str, belief: Belief, executor, world, snapshot, observe, em
     confirmed, lost = belief.inspect_deposit(deposit, list(shown.values()))
     emit("inspect_deposit", deposit=deposit, confirmed=confirmed, lost=lost)
     return lost
+
+
+def go_and_look(belief: Belief, went: Counter, most: int, executor, world, snapshot, observe, emit, count):
+    """Drive to the nearest waypoint from which a look should see a believed item (placed, looked
+    at fewer than ``most`` times this way, counted in ``went``), and look; False if there is
+    none (-> bool). The look is the executor's, after the move."""
+    facts = belief.facts()
+    here = robot_waypoint(facts, belief)
+    for k in belief.untidied():
+        if k.state != "placed" or went[k.name] >= most:
+            continue
+        views = [w for w, q in facts.points.items() if (here, w) in facts.path and belief.should_see(k, q)]
+        if not views:
+            continue
+        w = min(views, key=lambda w: (facts.path[(here, w)], w))
+        went[k.name] += 1
+        emit("look_again", looks_left=0, item=k.name, waypoint=w)
+        move(w, "look_again", belief, executor, world, snapshot, observe, emit, count)
+        return True
+    return False
