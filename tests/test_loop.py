@@ -46,13 +46,14 @@ approach = [0.75, 1.5]
 """
 
 
-def _scenario(name: str, items: list[tuple], extra: str = "", prior: bool = True):
-    """The room with these toys; the robot is told how many there are unless ``prior`` is False."""
+def _scenario(name: str, items: list[tuple], extra: str = "", prior: bool = True, on: str = "floor"):
+    """The room with these toys (``on`` that furniture); the robot is told how many there are
+    unless ``prior`` is False."""
     text = ROOM.format(name=name) + extra
     if prior:
         text += f"[prior]\ncount = {{ toy = {len(items)} }}\n"
     for item, x, y, *size in items:
-        text += f'[[item]]\nname = "{item}"\ncategory = "toy"\nposition = [{x}, {y}]\n'
+        text += f'[[item]]\nname = "{item}"\ncategory = "toy"\nposition = [{x}, {y}]\non = "{on}"\n'
         if size:
             text += f"size = {list(size[0])}\n"
     return loads(text, f"{name}.toml")
@@ -139,6 +140,31 @@ def test_moves_believed_blocked_are_forgotten_before_the_goal_shrinks(tmp_path, 
     before = [e for e in events[:unblock] if e["kind"] == "plan"][1:]
     assert before and not any(e["adopted"] for e in before)  # nothing had a plan while blocked
     assert any(e["kind"] == "plan" and e["adopted"] for e in events[unblock:])
+
+
+def test_under_a_horizon_a_new_item_waits_for_the_next_horizon(tmp_path, monkeypatch):
+    # 14 toys: more than one plan holds (monitor.goals.HORIZON), so the first goal is the 12
+    # nearest. One toy stays out of sight for the first looks; when it shows up, the horizon's
+    # plan goes on (no cause (v)), and the toy is tidied with the next goal.
+    spots = [(1.6 + 0.6 * (i % 2), 1.0 + 0.23 * (i // 2)) for i in range(14)]  # on a low table
+    table = '[[furniture]]\nname = "table"\ncenter = [1.9, 1.7]\nsize = [0.8, 1.6]\nheight = 0.4\nkind = "table"\n'
+    scenario = _scenario("horizon", [(f"t{i}", x, y) for i, (x, y) in enumerate(spots)], table, on="table")
+    real, looks = SymbolicWorld.look, {"n": 0}
+
+    def look(self):
+        looks["n"] += 1
+        late = looks["n"] <= 6  # the 14th toy is missed by the first six looks
+        return [d for d in real(self) if not (late and (d.x, d.y) == spots[-1])]
+
+    monkeypatch.setattr(SymbolicWorld, "look", look)
+    summary, events = _run(tmp_path, scenario)
+    assert summary["success"] and summary["delivered"] == 14, summary["reason"]
+    plans = [e for e in events if e["kind"] == "plan" and e["adopted"]]
+    assert plans[0]["goal_kind"] == "horizon" and len(plans[0]["goal"]) == 12
+    late = [e for e in events if e["kind"] == "observe" and e["new"]][1]  # after the first look's 13
+    assert late["new"] == ["toy-14"]
+    during = [e for e in events if e["kind"] == "plan" and e["seq"] > late["seq"]][:1]
+    assert during and during[0]["cause"] != "new_object"  # the next plan came for another reason
 
 
 def test_a_failed_grasp_is_mended_by_the_monitor_without_a_replan(tmp_path):

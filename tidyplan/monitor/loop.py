@@ -80,6 +80,7 @@ class Mission:
         self.snapshot: Snapshot | None = None
         self.steps: list[Step] = []
         self.goal: list[str] = []  # the adopted plan's goal items
+        self.goal_kind: str | None = None  # and which goal it was (monitor.goals)
         self.pending: list[Step] = []  # assumptions passed in the plan, not yet confirmed
         self.bound: dict[str, str] = {}  # virtual object -> seen item
         self.stratum: int | None = None
@@ -159,7 +160,9 @@ class Mission:
             if times >= self.config.max_same_failure:
                 return f"{step.text} failed ({report.failure}) {times} times, each after its recoveries"
             return self._replan(Cause.RECOVERY, f"{step.text}: {report.failure}")
-        if unbound:
+        if unbound and self.goal_kind != "horizon":
+            # Under a horizon the plan is for the nearest dozen only: a new item waits for the
+            # next horizon (unless it is in the way: the simulation below finds that, (ii)).
             return self._replan(Cause.NEW_OBJECT, " ".join(unbound))
         if not self.steps:
             return None  # _finished decides on the next turn
@@ -239,7 +242,7 @@ class Mission:
             if p < self.config.min_probability:  # narrow the goal: a shorter commitment may pass
                 unlikely.append(p)
                 continue
-            self._adopt(result, snap, problem)
+            self._adopt(result, snap, problem, label)
             self._looks_left, self._unblocked = LOOKS_BEFORE_GIVING_UP, False
             return None
         if self.belief.virtual() and self.belief.scene_changed:
@@ -354,8 +357,8 @@ class Mission:
         problem = self._problem(snap.text, "alone.pddl")
         return self.planner(self.domain, problem, self.max_stratum).status is Status.SOLVED
 
-    def _adopt(self, result: PlanResult, snap: Snapshot, problem: m.Problem) -> None:
-        self.snapshot, self.steps = snap, list(result.steps)
+    def _adopt(self, result: PlanResult, snap: Snapshot, problem: m.Problem, goal_kind: str) -> None:
+        self.snapshot, self.steps, self.goal_kind = snap, list(result.steps), goal_kind
         self.stratum = result.stratum
         if unproven_below(result.attempts):
             self.count.segment_unproven = True

@@ -3,7 +3,9 @@
 (i) the next action's precondition is false in the belief; (ii) the rest of the plan no longer
 reaches the goal from the belief; (iii) an assumption the plan relies on is contradicted by an
 observation; (iv) the execution layer reports that recovery is exhausted; (v) an observation
-brings an object that the plan can use and that binds to no virtual object in it.
+brings an object that the plan can use and that binds to no virtual object in it. A plan for a
+horizon (the nearest dozen items of a larger room, ``monitor.goals``) has no use for one more:
+there the new item waits for the next goal, and (v) does not apply.
 """
 
 from __future__ import annotations
