@@ -400,10 +400,18 @@ class Mission:
         return unbound
 
     def _check_assumptions(self) -> str | None:
+        """Cause (iii): a pending assumption, or one still ahead in the plan, that the belief now
+        contradicts (whether the plan looks before or after it assumes must not change the
+        cause). Pending ones the belief confirms are done with; those ahead wait their turn."""
         for a, ok, why in check_assumptions(self.pending, self.belief):
             self.pending.remove(a)
             self.trace.emit("assumption", action=a.text, holds=ok)
             if not ok:
+                return why
+        ahead = [s for s in self.steps if s.assumption]
+        for a, ok, why in check_assumptions(ahead, self.belief):
+            if not ok:
+                self.trace.emit("assumption", action=a.text, holds=False)
                 return why
         return None
 
