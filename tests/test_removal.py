@@ -65,3 +65,31 @@ def test_ties_go_to_the_name():
     ws = [Waypoint("b", 1.1, 1.0, reached=True), Waypoint("a", 1.1, -1.0, reached=True)]
     assert removal_waypoint(ws, ROBOT).name == "a"
     assert removal_waypoint(list(reversed(ws)), ROBOT).name == "a"
+
+
+def test_the_item_in_hand_goes_down_beside_the_robot_when_no_removal_waypoint_is_open():
+    # Case III under load: holding a tool at a grasp pose, a box on the floor shut both the way to
+    # the drawer and the way to the one removal waypoint. Taking the box needs a free hand.
+    from types import SimpleNamespace
+
+    from tidyplan.exec.geometry import MapFacts
+    from tidyplan.problem import removal_choices
+
+    facts = MapFacts(
+        points={
+            "wp-entrance": (0.0, 0.0),
+            "vp-north": (0.0, 2.0),
+            "wp-tool-1": (1.0, 1.0),
+            "wp-box-1": (1.5, 1.0),
+        },
+        kind={"wp-entrance": "entrance", "vp-north": "viewpoint", "wp-tool-1": "grasp", "wp-box-1": "grasp"},
+        grasp={"tool-1": "wp-tool-1", "box-1": "wp-box-1"},
+    )
+    facts.path = {("wp-tool-1", "wp-box-1"): 0.5, ("wp-box-1", "wp-tool-1"): 0.5}
+    facts.blocked = {
+        (a, b): 1.5 for a in facts.points for b in facts.points if a != b and (a, b) not in facts.path
+    }
+    belief = SimpleNamespace(reached={"wp-entrance", "vp-north", "wp-tool-1"}, holding="tool-2")
+    assert removal_choices(facts, belief, "wp-tool-1")["tool-2"] == "wp-tool-1"
+    facts.path[("wp-tool-1", "vp-north")] = facts.blocked.pop(("wp-tool-1", "vp-north"))
+    assert removal_choices(facts, belief, "wp-tool-1")["tool-2"] == "vp-north"  # Algorithm 1 when open

@@ -67,6 +67,12 @@ def removal_choices(facts: MapFacts, belief: Belief, robot_wp: str) -> dict[str,
         w = removal_waypoint(waypoints, facts.points[origin], lambda a, b, o=origin: _length(facts, o, b))
         if w is not None:
             out[item] = w.name
+    held = belief.holding
+    if held is not None and (out.get(held) is None or (robot_wp, out[held]) not in facts.path):
+        # No removal waypoint open from here: the item in the way of it needs a free hand first.
+        # Algorithm 1's "a free space nearby" is then beside the robot (case III had the robot
+        # hold a tool it could neither deliver nor put aside, both ways shut by a box).
+        out[held] = robot_wp
     return out
 
 
