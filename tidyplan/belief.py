@@ -112,6 +112,9 @@ class Belief:
         self.reached: set[str] = {ENTRANCE}
         self.looked_from: set[str] = set()
         self.must_move_back = False
+        # items the error layer gave up (monitor.loop): written without their category, so no
+        # plan delivers them again; a plan may still move one aside
+        self.undeliverable: set[str] = set()
         self.sticky: dict[str, Point] = {}
         self.blocked_moves: set[tuple[Point, Point]] = set()
         # (item place, robot pose): a close look from that pose did not find the item there

@@ -130,7 +130,8 @@ def write(
     if belief.must_move_back:
         init.append("(must-move-back)")
     for k in seen:
-        init.append(f"(of-category {k.name} {k.category})")
+        if k.name not in belief.undeliverable:
+            init.append(f"(of-category {k.name} {k.category})")
         if k.state == "placed" and k.name in facts.grasp:
             init.append(f"(item-at {k.name} {facts.grasp[k.name]}) (located {k.name})")
         elif k.state == "held":

@@ -29,7 +29,7 @@ from tidyplan.trace import SCHEMA_VERSION
 
 KINDS = frozenset(
     "start observe plan assume unit recovery action bind assumption plan_kept forget "
-    "explore_again look_again unblock inspect_deposit sim_fault end summary".split()
+    "explore_again look_again unblock give_up inspect_deposit sim_fault end summary".split()
 )
 # the five replan causes, numbered as in docs/trace.md and the Design (i)..(v)
 CAUSES = {

@@ -57,6 +57,7 @@ class LoopConfig:
     max_plans: int = 150
     # The error layer's last word: one action whose recoveries are exhausted this often, each
     # time replanned and tried again, will not go (the world has a reason the belief lacks).
+    # The item it acts on is given up and the rest tidied; an action on no item ends the mission.
     max_same_failure: int = 5
 
 
@@ -89,6 +90,7 @@ class Mission:
         self._exhausted: Counter[tuple[str, str | None]] = Counter()  # (action, failure) -> times
         self._why: Counter[tuple[str, str]] = Counter()  # (cause, why) -> replans: what repeated
         self._went_to_look: Counter[str] = Counter()  # item -> drives to look at it before giving up
+        self._given_up: dict[str, str] = {}  # item -> the failure the error layer gave it up for
         self._verified_at: int | None = None  # actions done when the deposits were last looked into
         self._plain = trace.save("domain.pddl", self.domain_text)
 
@@ -158,7 +160,11 @@ class Mission:
             self._exhausted[(step.text, report.failure)] += 1
             times = self._exhausted[(step.text, report.failure)]
             if times >= self.config.max_same_failure:
-                return f"{step.text} failed ({report.failure}) {times} times, each after its recoveries"
+                failed = f"{step.text} failed ({report.failure}) {times} times, each after its recoveries"
+                item = next((a for a in step.args if a in self.belief.items), None)
+                if item is None:
+                    return failed
+                self._give_up(item, failed)
             return self._replan(Cause.RECOVERY, f"{step.text}: {report.failure}")
         if unbound and self.goal_kind != "horizon":
             # Under a horizon the plan is for the nearest dozen only: a new item waits for the
@@ -188,7 +194,7 @@ class Mission:
         """The plan ran out, or nothing is left to plan for: explore again while the prior names
         items nobody found, look into the deposits, then ask the referee for its verdict.
         ``unreachable``: no plan reaches the unseen space left, so a new round is the next step."""
-        if self.belief.untidied():
+        if self._open():
             return self._replan(Cause.PLAN_INVALID, "plan done, items remain")
         unfound = self.belief.virtual()
         if unfound and self.belief.explorable() and not unreachable:
@@ -202,10 +208,13 @@ class Mission:
         if self._verified_at != self.count.actions:
             lost = self._inspect_deposits()
             self._verified_at = self.count.actions
-            if lost or self.belief.untidied():
+            if lost or self._open():
                 why = "deposits looked into: " + " ".join(lost or ["new items"])
                 return self._replan(Cause.PLAN_INVALID, why)
         left = self.world.untidied()  # the referee's verdict, the one question the loop asks it
+        if self._given_up:
+            names = " ".join(sorted(self._given_up))
+            return f"gave up on {names}, the rest tidied; the world has {len(left)} items left"
         if left:
             return f"belief says tidy, the world has {len(left)} items left"
         return "goal reached" + (f" ({len(unfound)} items of the prior never found)" if unfound else "")
@@ -221,7 +230,7 @@ class Mission:
 
     # ------------------------------------------------------------------ planning
     def _replan(self, cause: Cause, why: str = "") -> str | None:
-        if not self.belief.untidied() and not (self.belief.virtual() and self.belief.explorable()):
+        if not self._open() and not (self.belief.virtual() and self.belief.explorable()):
             return self._finished()  # nothing to plan for (the last item a false detection, say)
         if cause is not Cause.INITIAL:
             self.count.replans += 1
@@ -269,9 +278,9 @@ class Mission:
             best = max(unlikely)
             threshold = self.config.min_probability
             return f"no plan whose next commitment is likely enough: best {best:.2g} below {threshold:g}"
-        if not self.belief.untidied():  # only unseen items left, and no plan reaches them
+        if not self._open():  # only unseen items left, and no plan reaches them
             return self._finished(unreachable=True)
-        left = [k.name for k in self.belief.untidied()] + [v for v, _ in self.belief.virtual()]
+        left = [k.name for k in self._open()] + [v for v, _ in self.belief.virtual()]
         return f"no plan for {' '.join(left)}" if left else "no plan"
 
     def _map_now(self) -> Snapshot:
@@ -287,11 +296,24 @@ class Mission:
 
     def _worth_looking(self) -> bool:
         """A look can change the belief: some believed item is in view and could be missed."""
-        return any(self.belief.should_see(k) for k in self.belief.untidied() if k.state == "placed")
+        return any(self.belief.should_see(k) for k in self._open() if k.state == "placed")
+
+    def _open(self) -> list:
+        """The untidied items the loop still plans for: all but those given up."""
+        return [k for k in self.belief.untidied() if k.name not in self._given_up]
+
+    def _give_up(self, item: str, why: str) -> None:
+        """Yamazaki's error layer, last word: the task is reworked without ``item`` (left where
+        it is, or put down wherever a plan puts it), and the rest of the room is tidied."""
+        self._given_up[item] = why
+        self.belief.undeliverable.add(item)
+        self._went_to_look[item] = LOOKS_BEFORE_GIVING_UP  # nothing to look at it for
+        self.trace.emit("give_up", item=item, why=why)
 
     def _goals(self):
         facts = self.belief.facts()
-        out = goals(self.belief, facts)
+        out = [(label, [g for g in goal if g not in self._given_up], virtual)
+               for label, goal, virtual in goals(self.belief, facts)]  # fmt: skip
         self._facts, self._seen = facts, out[-1][1]
         return out[:-1] + [("feasible", None, [])]
 
