@@ -192,6 +192,29 @@ def test_an_item_that_will_not_go_is_given_up_and_the_rest_tidied(tmp_path, monk
     assert len(tidied) == 1 and near not in tidied[0]
 
 
+def test_when_nothing_more_can_be_done_the_referee_decides(tmp_path, monkeypatch):
+    # A false detection in the corner behind a cupboard: no grasp pose, no look can forget it. The
+    # real toy is tidied; the loop ends with no plan for the phantom, and the referee finds the
+    # room tidy: a success that says what the belief still held.
+    from tidyplan.belief import Detection
+
+    real, looks = SymbolicWorld.look, {"n": 0}
+
+    def look(self):
+        looks["n"] += 1
+        phantom = [Detection("toy", 2.93, 2.93, "floor", 0.06, 0.06, 0.08)] if looks["n"] == 1 else []
+        return real(self) + phantom
+
+    monkeypatch.setattr(SymbolicWorld, "look", look)
+    cupboard = (  # where CRATE stands in the other tests, as furniture: the corner stays shut
+        '[[furniture]]\nname = "cupboard"\ncenter = [2.6, 2.6]\nsize = [0.5, 0.5]\nheight = 0.8\n'
+        'kind = "shelf"\n'
+    )
+    summary, events = _run(tmp_path, _scenario("phantom", [("t1", 1.8, 1.0)], cupboard, prior=False))
+    assert summary["delivered"] == 1 and summary["success"], summary["reason"]
+    assert summary["reason"].startswith("goal reached; no plan for toy-")
+
+
 def test_a_failed_grasp_is_mended_by_the_monitor_without_a_replan(tmp_path):
     # The grasp closes on nothing (class B): the grasp unit goes from do back to check, the
     # action succeeds, and the plan is kept.

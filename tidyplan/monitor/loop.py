@@ -281,6 +281,8 @@ class Mission:
         if not self._open():  # only unseen items left, and no plan reaches them
             return self._finished(unreachable=True)
         left = [k.name for k in self._open()] + [v for v, _ in self.belief.virtual()]
+        if not self.world.untidied():  # nothing more can be done: the referee's verdict decides
+            return f"goal reached; no plan for {' '.join(left)}, which the belief still held"
         return f"no plan for {' '.join(left)}" if left else "no plan"
 
     def _map_now(self) -> Snapshot:
