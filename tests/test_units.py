@@ -145,15 +145,19 @@ def test_an_item_the_arm_cannot_place_as_held_is_put_down_and_taken_again(tmp_pa
     assert not any(e["kind"] == "plan" and e["stratum"] == 3 for e in events)
 
 
-def test_an_action_that_keeps_failing_after_recovery_ends_the_mission(tmp_path, monkeypatch):
+def test_an_action_that_keeps_failing_after_recovery_gives_its_item_up(tmp_path, monkeypatch):
     # Every placement fails (the hand never opens): each time the recoveries are exhausted and
-    # the planner replans the same delivery; the error layer stops after max_same_failure.
+    # the planner replans the same delivery; after max_same_failure the error layer gives the
+    # item up (the only one here), and the mission ends saying so, the item not tidied.
     def place(self, deposit, approach):
         return Outcome(False, "place_fail", 3.0)
 
     monkeypatch.setattr(SymbolicWorld, "place", place)
     scenario = _scenario("stuck", [("t1", 1.8, 1.0)])
-    summary = run(scenario, tmp_path / "t.jsonl", Settings(rates=EXACT, time_budget=0.5))
-    assert not summary["success"]
-    assert summary["reason"].startswith("(deliver_it ") and "failed (place_fail) 5 times" in summary["reason"]
+    trace = tmp_path / "t.jsonl"
+    summary = run(scenario, trace, Settings(rates=EXACT, time_budget=0.5))
+    assert not summary["success"] and summary["delivered"] == 0
+    assert summary["reason"] == "gave up on toy-1, the rest tidied; the world has 1 items left"
+    given = [e for e in map(json.loads, open(trace, encoding="utf-8")) if e["kind"] == "give_up"]
+    assert len(given) == 1 and "failed (place_fail) 5 times" in given[0]["why"]
     assert summary["replan_causes"] == {"recovery_exhausted": 4}
