@@ -92,7 +92,10 @@ class Viewpoint:
 @dataclass(frozen=True, slots=True)
 class Sensing:
     """The head camera and the detector: range in metres, fields of view in degrees, error rates
-    as probabilities per look, camera height above the floor in metres."""
+    as probabilities per look, camera height above the floor in metres. ``look_down_deg`` is how
+    far below the horizon the lowest frame of a sweep sees (the HSR's lowest tilt, 37 degrees, plus
+    half the vertical field of view is 59.7; 55 leaves room for the lens sitting off the pan axis):
+    the floor nearer the robot than that is not seen."""
 
     range_min: float = 0.8
     range_max: float = 3.5
@@ -101,6 +104,7 @@ class Sensing:
     false_negative: float = 0.2
     false_positive: float = 0.05
     camera_height: float = 1.0
+    look_down_deg: float = 55.0  # the steepest a head sweep looks below the horizon (floor nearer is blind)
 
 
 @dataclass(frozen=True, slots=True)

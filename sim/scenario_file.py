@@ -112,6 +112,7 @@ _SENSING_CHECKS = {
     "false_negative": _probability,
     "false_positive": _probability,
     "camera_height": _positive,
+    "look_down_deg": _range(0, 90),
 }
 _TOP = ("schema", "name", "title", "description", "room", "robot", "sensing")
 _ARRAYS = ("furniture", "deposit", "item", "viewpoint")

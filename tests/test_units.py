@@ -161,3 +161,21 @@ def test_an_action_that_keeps_failing_after_recovery_gives_its_item_up(tmp_path,
     given = [e for e in map(json.loads, open(trace, encoding="utf-8")) if e["kind"] == "give_up"]
     assert len(given) == 1 and "failed (place_fail) 5 times" in given[0]["why"]
     assert summary["replan_causes"] == {"recovery_exhausted": 4}
+
+
+def test_an_item_beside_the_base_is_not_forgotten_by_looks_that_cannot_see_the_floor_there():
+    """The sweep's lowest frame reaches ``look_down_deg`` below the horizon: the floor nearer the
+    base is blind, so looks that miss an item lying there are no evidence it is gone (in pybullet,
+    a box dropped beside the robot was forgotten and then driven into). The same item farther out,
+    in plain view, is forgotten after as many misses."""
+    from tidyplan.belief import FORGET_AFTER, Belief, Detection
+
+    scenario = _scenario("beside", [("t1", 1.8, 1.0)])
+    belief = Belief(scenario, RoomMap(scenario))
+    belief.robot = (1.5, 1.0)
+    near = belief.observe([Detection("toy", 1.5, 1.25, "floor")], None).new[0]  # 0.25 m out
+    far = belief.observe([Detection("toy", 1.5, 1.25, "floor"), Detection("toy", 1.5, 2.7, "floor")], None).new[0]
+    assert not belief.should_see(belief.items[near]) and belief.should_see(belief.items[far])
+    for _ in range(FORGET_AFTER + 1):
+        belief.observe([], None)
+    assert near in belief.items and far not in belief.items

@@ -404,7 +404,12 @@ class Belief:
         at = self.robot if at is None else at
         s = self.scenario.sensing
         z = 0.05 if k.on == "floor" else self.scenario.furniture_named(k.on).height + 0.05
-        if math.dist(at, (k.x, k.y)) > MISS_RANGE:
+        across = math.dist(at, (k.x, k.y))
+        if across > MISS_RANGE:
+            return False
+        # Under the sweep's lowest frame (the floor right beside the base) a miss is no evidence:
+        # an item the robot dropped beside itself was forgotten there, and driven into.
+        if math.degrees(math.atan2(s.camera_height - z, across)) > s.look_down_deg:
             return False
         # Furniture, and the items it knows of, may hide k: a miss behind them is no evidence.
         occ = [b for b in self._occluders if b.name != k.on] + [
