@@ -37,6 +37,7 @@ class Snapshot:
     virtual: tuple[tuple[str, str], ...]
     robot_waypoint: str
     removal: dict[str, str]  # item -> removal waypoint (Algorithm 1)
+    atoms: frozenset[tuple[str, ...]]  # the init's atoms, as the text states them (no parse back)
 
 
 def robot_waypoint(facts: MapFacts, belief: Belief) -> str:
@@ -125,33 +126,39 @@ def write(
     p_near = belief.p_item_near(facts) if virtual else {}
     deposits = belief.scenario.deposits
     categories = sorted({k.category for k in seen} | {c for _, c in virtual} | {d.category for d in deposits})
-    init = ["(= (total-cost) 0)", f"(robot-at {robot_wp})"]
-    init.append(f"(holding {belief.holding})" if belief.holding else "(hand-empty)")
+    atoms: set[tuple[str, ...]] = set()
+
+    def a(*atom: str) -> str:  # one atom of the init, kept as a tuple too (the loop's state)
+        atoms.add(atom)
+        return "(" + " ".join(atom) + ")"
+
+    init = ["(= (total-cost) 0)", a("robot-at", robot_wp)]
+    init.append(a("holding", belief.holding) if belief.holding else a("hand-empty"))
     if belief.must_move_back:
-        init.append("(must-move-back)")
+        init.append(a("must-move-back"))
     for k in seen:
         if k.name not in belief.undeliverable:
-            init.append(f"(of-category {k.name} {k.category})")
+            init.append(a("of-category", k.name, k.category))
         if k.state == "placed" and k.name in facts.grasp:
-            init.append(f"(item-at {k.name} {facts.grasp[k.name]}) (located {k.name})")
+            init.append(f"{a('item-at', k.name, facts.grasp[k.name])} {a('located', k.name)}")
         elif k.state == "held":
-            init.append(f"(located {k.name})")
+            init.append(a("located", k.name))
     for v, cat in virtual:
-        init.append(f"(of-category {v} {cat})")
+        init.append(a("of-category", v, cat))
     for d in deposits:
-        init.append(f"(deposit-at {d.name} {deposit_waypoint(d.name)}) (accepts {d.name} {d.category})")
+        init.append(f"{a('deposit-at', d.name, deposit_waypoint(d.name))} {a('accepts', d.name, d.category)}")
     for item, w in removal.items():
-        init.append(f"(removal-waypoint {item} {w})")
+        init.append(a("removal-waypoint", item, w))
     for w, p in p_near.items():
-        init.append(f"(unexplored {w}) (= (p-item-near {w}) {p})")
-    for (a, b), d in sorted(facts.path.items()):
-        init.append(f"(path {a} {b}) (= (distance {a} {b}) {d:.2f})")
-    for (a, b), d in sorted(facts.blocked.items()):
-        init.append(f"(path {a} {b}) (blocked {a} {b}) (= (distance {a} {b}) {d:.2f})")
-    for item, a, b in sorted(facts.blocks):
-        init.append(f"(blocks {item} {a} {b})")
-    for (a, b), d in sorted(facts.adjust.items()):
-        init.append(f"(pose-adjustment {a} {b}) (= (distance {a} {b}) {d:.2f})")
+        init.append(f"{a('unexplored', w)} (= (p-item-near {w}) {p})")
+    for (u, v), d in sorted(facts.path.items()):
+        init.append(f"{a('path', u, v)} (= (distance {u} {v}) {d:.2f})")
+    for (u, v), d in sorted(facts.blocked.items()):
+        init.append(f"{a('path', u, v)} {a('blocked', u, v)} (= (distance {u} {v}) {d:.2f})")
+    for item, u, v in sorted(facts.blocks):
+        init.append(a("blocks", item, u, v))
+    for (u, v), d in sorted(facts.adjust.items()):
+        init.append(f"{a('pose-adjustment', u, v)} (= (distance {u} {v}) {d:.2f})")
     items = [k.name for k in seen]
     lines = [
         f";; {name}: written from the belief state by tidyplan (scenario {belief.scenario.name}).",
@@ -174,7 +181,7 @@ def write(
         "  (:metric minimize (total-cost)))",
         "",
     ]
-    return Snapshot("\n".join(lines), facts, tuple(goal), tuple(virtual), robot_wp, removal)
+    return Snapshot("\n".join(lines), facts, tuple(goal), tuple(virtual), robot_wp, removal, frozenset(atoms))
 
 
 def _dist(a, b) -> float:

@@ -394,7 +394,7 @@ class Mission:
         """The current belief as a planning state, in the names of the plan being executed."""
         virtual = [(v, c) for v, c in self.snapshot.virtual if v not in self.bound]
         snap = write(self.belief, self.belief.facts(), self.goal, virtual, "belief")
-        facts = set(self.sim.initial_state(parse(snap.text, "belief.pddl")))
+        facts = set(snap.atoms)  # what the text states, without parsing it back every tick
         # Virtual objects the plan bound are seen items now; pending assumptions stand for
         # what the plan took for granted and the belief does not contradict yet.
         for a in self.pending:
