@@ -142,9 +142,11 @@ class RoomMap:
         nav, static, bare = self.grid(floor), self.grid(()), self.grid(floor, bare=True)
         facts = MapFacts(points=dict(self.fixed), kind=dict(self.fixed_kind))
         # Reachable from where the robot is, not from the entrance: an item that fell by the door
-        # shuts the entrance's cell, not the room (case III with faults had no grasp pose left).
+        # shuts the entrance's cell, not the room (case III with faults had no grasp pose left),
+        # and one dropped beside the robot in a corner shuts the robot in: the grasp pose that
+        # frees it must be one it reaches from there (case III with faults, seed 1).
         self._origin = self.entrance
-        if robot is not None and not nav.free(*self.entrance):
+        if robot is not None:
             q = robot[1]
             self._origin = q if nav.free(*q) else nav.nearest_free(*q)
         reachable = set(nav.free_cells(reachable_from=self._origin))
