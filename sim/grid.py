@@ -82,10 +82,10 @@ class OccupancyGrid:
         self.shape = (round((x1 - x0) / cell), round((y1 - y0) / cell))
         self.mask = self._free_mask()
         self.graph = self._graph()
-        self._lengths: dict[Cell, dict[Cell, float]] = {}
+        # one Dijkstra per source cell, remembered: lengths and the cell before each on its path
+        self._trees: dict[Cell, tuple[dict[Cell, float], dict[Cell, Cell]]] = {}
         self._component: dict[Cell, int] = {}  # cell -> its connected component's number
         self._label: dict[Cell, int] | None = None  # every free cell's component (_labels)
-        self._paths: dict[tuple[Cell, Cell], tuple[Cell, ...] | None] = {}
 
     # ------------------------------------------------------------------ cells and points
     def xy(self, i: int, j: int) -> Point:
@@ -153,13 +153,14 @@ class OccupancyGrid:
         ca, cb = self.cell(*a), self.cell(*b)
         if not (self._free_cell(ca) and self._free_cell(cb)):
             return None
-        if (ca, cb) not in self._paths:  # remembered: a mission asks for the same pairs again
-            try:
-                self._paths[(ca, cb)] = tuple(nx.dijkstra_path(self.graph, ca, cb, weight="weight"))
-            except nx.NetworkXNoPath:
-                self._paths[(ca, cb)] = None
-        cells = self._paths[(ca, cb)]
-        return None if cells is None else [self.xy(*c) for c in cells]
+        lengths, before = self._tree(ca)
+        if cb not in lengths:
+            return None
+        cells = [cb]
+        while cells[-1] != ca:
+            cells.append(before[cells[-1]])
+        cells.reverse()
+        return [self.xy(*c) for c in cells]
 
     def connected(self, a: Point, b: Point) -> bool:
         """Whether a path joins a and b (a breadth-first search, remembered per component: much
@@ -255,11 +256,21 @@ class OccupancyGrid:
         )
 
     def _from(self, c: Cell) -> dict[Cell, float]:
-        """Path lengths from cell c to every cell it reaches; remembered, since the grid never
-        changes and a mission asks from the same waypoints again and again."""
-        if c not in self._lengths:
-            self._lengths[c] = nx.single_source_dijkstra_path_length(self.graph, c, weight="weight")
-        return self._lengths[c]
+        """Path lengths from cell c to every cell it reaches."""
+        return self._tree(c)[0]
+
+    def _tree(self, c: Cell) -> tuple[dict[Cell, float], dict[Cell, Cell]]:
+        """Dijkstra from cell c: the length to every cell it reaches, and the cell before each on
+        the path ``nx.dijkstra_path`` gives (its first predecessor: the same ties broken the same
+        way). Remembered, since the grid never changes and a mission asks from the same
+        waypoints again and again; one tree serves every path from c (at 96 objects the map's
+        facts asked for thousands of pairs, one Dijkstra each, most of a turn)."""
+        if c not in self._trees:
+            if len(self._trees) >= 512:  # the robot's own pose is a new source every step
+                self._trees.clear()
+            pred, lengths = nx.dijkstra_predecessor_and_distance(self.graph, c, weight="weight")
+            self._trees[c] = (lengths, {u: vs[0] for u, vs in pred.items() if vs})
+        return self._trees[c]
 
     # ------------------------------------------------------------------ construction
     def _free_cell(self, c: Cell) -> bool:

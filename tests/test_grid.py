@@ -173,3 +173,22 @@ def test_connected_without_a_box_agrees_with_a_new_grid_on_seeded_random_rooms()
         for box in boxes:
             fresh = OccupancyGrid(bounds, [b for b in boxes if b is not box], radius=0.25)
             assert grid.connected_without(box, pairs) == [fresh.connected(a, b) for a, b in pairs]
+
+
+def test_paths_from_one_tree_are_the_ones_networkx_gives_pair_by_pair():
+    """``path`` and ``lengths_from`` read one remembered Dijkstra per source; the paths must be
+    networkx's own ``dijkstra_path`` (the same ties broken the same way: which items lie along a
+    path decides what blocks it) and the lengths its lengths."""
+    import random
+
+    import networkx as nx
+
+    grid = OccupancyGrid(ROOM, [Box(2.0, 1.5, 0.4, 1.6), Box(1.0, 0.8, 0.3, 0.3)], radius=R)
+    cells = [(int(i), int(j)) for i, j in zip(*grid.mask.nonzero(), strict=True)]
+    rng = random.Random(0)
+    for _ in range(60):
+        a, b = grid.xy(*rng.choice(cells)), grid.xy(*rng.choice(cells))
+        want = nx.dijkstra_path(grid.graph, grid.cell(*a), grid.cell(*b), weight="weight")
+        assert grid.path(a, b) == [grid.xy(*c) for c in want]
+        length = nx.dijkstra_path_length(grid.graph, grid.cell(*a), grid.cell(*b), weight="weight")
+        assert grid.lengths_from(a, [b]) == [length]
