@@ -45,3 +45,22 @@ def test_a_robot_shut_in_a_corner_by_an_item_it_dropped_grasps_it_from_where_it_
     facts = room.facts([cup], ("wp-robot", robot))
     assert ("wp-robot", "wp-entrance") in facts.blocked  # shut in, as the test means
     assert ("wp-robot", facts.grasp["cup"]) in facts.path or ("wp-robot", facts.grasp["cup"]) in facts.adjust
+
+
+def test_an_item_that_fell_unseen_is_no_obstacle_where_the_robot_stands():
+    """A dropped item is put where the robot stood until a look finds it (its place is not known):
+    as an obstacle there it shut every way from the robot, and no plan could start (case III with
+    faults, seed 1, a cup dropped four times on the way to the container). It still gets a grasp
+    pose, from which the pick-up looks for it."""
+    from tests.test_loop import _scenario
+    from tidyplan.belief import Detection
+
+    scenario = _scenario("fell", [("t1", 1.5, 2.0)])
+    belief = Belief(scenario, RoomMap(scenario))
+    belief.robot = (1.5, 1.5)
+    name = belief.observe([Detection("toy", 1.5, 2.0, "floor")], None).new[0]
+    belief.fell(name, belief.robot, 0.6)
+    facts = belief.facts()
+    robot = next(n for n, k in facts.kind.items() if k == "robot")
+    assert (robot, "wp-entrance") in facts.path and (robot, "wp-box") in facts.path
+    assert name in facts.grasp and (robot, facts.grasp[name]) in facts.path

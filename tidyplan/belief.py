@@ -68,7 +68,7 @@ class Known:
     spread: float = 0.0  # m it may lie from (x, y): 0 where seen; more where it fell unseen
 
     def placed(self) -> Placed:
-        return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy)
+        return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0)
 
 
 @dataclass(frozen=True, slots=True)

@@ -46,10 +46,18 @@ class Placed:
     on: str = "floor"
     sx: float = 0.08
     sy: float = 0.08
+    # Fell where no look has found it yet: (x, y) is only where the robot stood, so it is no
+    # obstacle on the map (put there it shut the robot in on every side, and no plan could start).
+    loose: bool = False
 
     @property
     def xy(self) -> Point:
         return (self.x, self.y)
+
+    @property
+    def on_floor(self) -> bool:
+        """On the floor where the map knows it: an obstacle to the base."""
+        return self.on == "floor" and not self.loose
 
     def box(self) -> Box:
         return Box(self.x, self.y, self.sx, self.sy, self.name)
@@ -138,7 +146,7 @@ class RoomMap:
         map: the grasp pose of the item now in its hand) when no waypoint is there already.
         ``sticky`` holds grasp poses chosen before: kept while still usable, so a plan's waypoints
         survive a replan."""
-        floor = [p.box() for p in items if p.on == "floor"]
+        floor = [p.box() for p in items if p.on_floor]
         nav, static, bare = self.grid(floor), self.grid(()), self.grid(floor, bare=True)
         facts = MapFacts(points=dict(self.fixed), kind=dict(self.fixed_kind))
         # Reachable from where the robot is, not from the entrance: an item that fell by the door
@@ -197,7 +205,7 @@ class RoomMap:
             return
         # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
         # its paths would be blocked by the item to be taken from there (no plan could start)
-        own = self.grid([p.box()]) if p.on == "floor" else static
+        own = self.grid([p.box()]) if p.on_floor else static
         room = set(own.free_cells(reachable_from=self._origin if own.free(*self._origin) else self.entrance))
         later = [c for c in crossing if c in room]
         if previous in later:
@@ -280,7 +288,7 @@ class RoomMap:
     def _blockers(self, facts, items, names, pts, pairs) -> None:
         """Which floor item, taken away alone, frees each blocked pair; failing any single one,
         every floor item near the pair's path on the static map (all of them must go)."""
-        floor = [p for p in items if p.on == "floor"]
+        floor = [p for p in items if p.on_floor]
         freed: dict[tuple[int, int], list[str]] = {pair: [] for pair in pairs}
         nav = self.grid([p.box() for p in floor])
         for p in floor:

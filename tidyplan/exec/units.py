@@ -48,7 +48,7 @@ class Context:
         self.new = [n for n in self.new + self.observe(self.world.look(), waypoint) if n in self.belief.items]
 
     def floor(self, without: str | None = None):
-        return [p.box() for p in self.belief.placed() if p.on == "floor" and p.name != without]
+        return [p.box() for p in self.belief.placed() if p.on_floor and p.name != without]
 
 
 class Navigate(Unit):
