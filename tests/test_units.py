@@ -179,3 +179,19 @@ def test_an_item_beside_the_base_is_not_forgotten_by_looks_that_cannot_see_the_f
     for _ in range(FORGET_AFTER + 1):
         belief.observe([], None)
     assert near in belief.items and far not in belief.items
+
+
+def test_a_look_that_confirms_an_item_takes_its_place_and_extent_as_it_lies_now():
+    """A tall box knocked over covers more floor, a cup knocked aside lies elsewhere: the look that
+    confirms them says so, and the map the robot plans on follows (in pybullet the belief kept a
+    toppled toolbox upright, and the base drove into it again and again)."""
+    from tidyplan.belief import Belief, Detection
+
+    scenario = _scenario("toppled", [("t1", 1.8, 1.0)])
+    belief = Belief(scenario, RoomMap(scenario))
+    belief.robot = (1.5, 2.5)
+    name = belief.observe([Detection("toy", 1.5, 1.0, "floor", 0.19, 0.19, 0.45)], None).new[0]
+    belief.observe([Detection("toy", 1.6, 1.0, "floor", 0.45, 0.19, 0.19)], None)
+    k = belief.items[name]
+    assert (k.x, k.y, k.sx, k.sy, k.sz) == (1.6, 1.0, 0.45, 0.19, 0.19)
+    assert belief.placed()[0].box().sx == 0.45

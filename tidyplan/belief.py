@@ -42,6 +42,7 @@ MISS_RANGE = 2.5  # m: a miss counts only this close; far detections are the unr
 SAME_ITEM = 0.20  # m: a detection this close to a believed item of its category is that item
 FORGET_AFTER = 3  # looks in a row that should have seen an item and did not: it is not there
 # (at a false-negative rate of 0.2, three misses in a row of a real item happen 1 time in 125)
+MOVED = 0.03  # m: a confirmed item seen this far from where it was believed has been moved there
 UNEXPLORED_SHARE = 0.02  # a viewpoint that would reveal less of the unseen space is explored
 POINT_SPACING = 0.10  # m between placement points
 LOST_RADIUS = 1.0  # m around where a lost item was (fell, knocked, not found) it is looked for again
@@ -265,8 +266,12 @@ class Belief:
             k = self._match(d, matched)
             if k is not None:
                 k.misses = 0
-                if k.spread:  # a fallen item found: now its place is known
+                # a fallen item found, or one knocked aside: now its place is known
+                if k.spread or math.dist((k.x, k.y), (d.x, d.y)) > MOVED:
                     self.relocate(k.name, d.x, d.y)
+                # and its extent as it lies now: a tall box that toppled covers more floor (kept
+                # upright in the belief, the map let the base drive into it, again and again)
+                k.sx, k.sy, k.sz = d.sx, d.sy, d.sz
                 matched.add(k.name)
                 update.confirmed.append(k.name)
                 continue
