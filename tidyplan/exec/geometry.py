@@ -23,6 +23,8 @@ import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from sim.grid import Box, OccupancyGrid
 from sim.scenario import Scenario
 
@@ -102,6 +104,7 @@ class RoomMap:
         self.bare_radius = scenario.robot.radius
         self._origin: Point = (0.0, 0.0)  # where reachability is counted from, set by facts()
         self._grids: dict[tuple[float, frozenset[Box]], OccupancyGrid] = {}
+        self._bare_cells: tuple[list[Point], np.ndarray] | None = None  # for _ring
         static = self.grid(())
         self.entrance = static.nearest_free(*scenario.entrance)
         self.fixed: dict[str, Point] = {ENTRANCE: self.entrance}
@@ -180,12 +183,11 @@ class RoomMap:
         # only poses of an item hemmed in by others (a table side lined with floor items).
         others_floor = [b for b in floor if b.name != p.name and b.clearance(*p.xy) <= GRASP_MAX + 0.5]
         crossing: dict[Point, tuple[str, ...]] = {}
-        for c in self.grid((), bare=True).free_cells():
-            if GRASP_MIN <= math.dist(c, p.xy) <= GRASP_MAX:
-                under = () if bare.free(*c) else tuple(
-                    b.name for b in others_floor if b.clearance(*c) < self.bare_radius
-                )  # fmt: skip
-                crossing[c] = tuple(b.name for b in others_floor if _crosses(c, p.xy, b)) + under
+        for c in self._ring(p.xy):
+            under = () if bare.free(*c) else tuple(
+                b.name for b in others_floor if b.clearance(*c) < self.bare_radius
+            )  # fmt: skip
+            crossing[c] = tuple(b.name for b in others_floor if _crosses(c, p.xy, b)) + under
         others = [q for n, q in facts.points.items() if facts.kind[n] in ("grasp", "adjust")]
         # poses taken by other waypoints, and those from which the robot failed to find p before
         crossing = {
@@ -234,6 +236,18 @@ class RoomMap:
         facts.grasp[p.name] = name
         d = round(math.dist(base, c), 2)
         facts.adjust[(name + "-base", name)] = facts.adjust[(name, name + "-base")] = d
+
+    def _ring(self, at: Point) -> list[Point]:
+        """The bare map's free cells within the arm's reach of ``at`` (GRASP_MIN to GRASP_MAX), in
+        cell order: one array test, not a loop over the room's ten thousand cells per item."""
+        if self._bare_cells is None:
+            cells = self.grid((), bare=True).free_cells()
+            self._bare_cells = (cells, np.array(cells, dtype=float).reshape(-1, 2))
+        cells, xy = self._bare_cells
+        d = np.hypot(xy[:, 0] - at[0], xy[:, 1] - at[1])
+        # the same float test as math.dist, so a cell on the ring's edge stays in or out as before
+        near = np.nonzero((d >= GRASP_MIN - 1e-9) & (d <= GRASP_MAX + 1e-9))[0]
+        return [c for c in (cells[k] for k in near) if GRASP_MIN <= math.dist(c, at) <= GRASP_MAX]
 
     def _add_paths(self, facts: MapFacts, items: Sequence[Placed], nav, static) -> None:
         names = sorted(facts.points)
@@ -297,10 +311,15 @@ class RoomMap:
                 if ok:
                     freed[pair].append(p.name)
         static = self.grid(())
+        xy = np.array([p.xy for p in floor], dtype=float).reshape(-1, 2)
         for (i, j), who in freed.items():
             if not who:
-                line = static.path(pts[i], pts[j]) or []
-                who = [p.name for p in floor if any(math.dist(p.xy, q) < self.nav_radius + 0.1 for q in line)]
+                line = np.array(static.path(pts[i], pts[j]) or [], dtype=float).reshape(-1, 2)
+                # each floor item near the path (one array of distances, not a loop of loops:
+                # at 96 objects that loop was half of every replan)
+                d = np.hypot(xy[:, None, 0] - line[None, :, 0], xy[:, None, 1] - line[None, :, 1])
+                near = (d < self.nav_radius + 0.1).any(axis=1) if len(line) else np.zeros(len(floor), bool)
+                who = [p.name for p, hit in zip(floor, near, strict=True) if hit]
             for item in who:
                 facts.blocks.add((item, names[i], names[j]))
 
@@ -313,6 +332,14 @@ def _straight(grid: OccupancyGrid, a: Point, b: Point, step: float = 0.05) -> bo
 
 def _crosses(a: Point, b: Point, box: Box) -> bool:
     """Whether segment a-b passes over the box's footprint (sampled every 2 cm)."""
+    hx, hy = box.sx / 2, box.sy / 2
+    if (
+        max(a[0], b[0]) < box.cx - hx
+        or min(a[0], b[0]) > box.cx + hx
+        or max(a[1], b[1]) < box.cy - hy
+        or min(a[1], b[1]) > box.cy + hy
+    ):
+        return False  # apart: no sample can fall on it (most boxes near an item, most segments)
     n = max(2, int(math.dist(a, b) / 0.02))
     return any(
         box.clearance(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) == 0.0 for k in range(n + 1)
