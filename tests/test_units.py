@@ -9,7 +9,7 @@ import math
 from dataclasses import replace
 
 from tests.test_loop import EXACT, _scenario
-from tidyplan.exec.geometry import RoomMap
+from tidyplan.exec.geometry import Placed, RoomMap
 from tidyplan.exec.symbolic import SymbolicWorld
 from tidyplan.exec.world import Outcome
 from tidyplan.mission import Settings, run
@@ -195,3 +195,27 @@ def test_a_look_that_confirms_an_item_takes_its_place_and_extent_as_it_lies_now(
     k = belief.items[name]
     assert (k.x, k.y, k.sx, k.sy, k.sz) == (1.6, 1.0, 0.45, 0.19, 0.19)
     assert belief.placed()[0].box().sx == 0.45
+
+
+def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():
+    """drop_object puts the item on a ring around the base: 0.45 m out, or farther for a long one,
+    so that turned any way it leaves the robot's own cell free (a toolbox lying, 0.45 m long, put
+    down 0.45 m out shut the robot in beside it: case III with faults, seed 3)."""
+    from tidyplan.belief import Belief, Detection
+    from tidyplan.exec.units import Context, PutDown
+
+    scenario = _scenario("long", [("t1", 1.5, 1.0, (0.45, 0.19, 0.19))])
+    room = RoomMap(scenario)
+    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
+    world.robot = (1.5, 1.5)
+    belief = Belief(scenario, room)
+    belief.robot = world.robot
+    name = belief.observe([Detection("toy", 1.5, 1.0, "floor", 0.45, 0.19, 0.19)], None).new[0]
+    assert world.grasp((1.5, 1.0)).ok
+    belief.taken(name)
+    unit = PutDown(Context(world, belief, lambda d, w: []), name)
+    assert unit.check() is None and unit.plan() is None
+    assert math.dist(unit.spot, world.robot) >= room.nav_radius + math.hypot(0.45, 0.19) / 2
+    for turned in ((0.45, 0.19), (0.19, 0.45)):  # lying along x or along y: the robot can still go
+        box = Placed(name, "toy", *unit.spot, sx=turned[0], sy=turned[1]).box()
+        assert room.grid([box]).free(*world.robot), turned

@@ -28,6 +28,7 @@ Point = tuple[float, float]
 A, B, C = FailureClass.A, FailureClass.B, FailureClass.C
 
 FIND_RADIUS = 0.25  # m around the believed place a close look searches for the target
+PUT_DOWN_AT = 0.45  # m from the base's centre an item is put down on the floor (drop_object)
 FALL_SPREAD = 0.6  # m from where the hand let go that a dropped item is searched for
 ADJUST_PATH_MAX = 1.5  # m: the longest careful base adjustment around an item
 AT_POSE = 0.03  # m: the robot stands at a pose when this close
@@ -294,7 +295,11 @@ class PutDown(Unit):
         x0, x1, y0, y1 = belief.scenario.bounds
         centre = ((x0 + x1) / 2, (y0 + y1) / 2)
         occupied = [p.xy for p in belief.placed()] + self.tried
-        spots = free_spots(belief.scenario, self.ctx.world.pose(), occupied)
+        item = belief.items[self.item]
+        # far enough out that the item, turned any way, leaves the robot's own cell free: a long
+        # box (a toolbox lying, 0.45 m) put down 0.45 m out shut the robot in beside it
+        out = max(PUT_DOWN_AT, belief.room.nav_radius + math.hypot(item.sx, item.sy) / 2 + 0.02)
+        spots = free_spots(belief.scenario, self.ctx.world.pose(), occupied, (out, out))
         if not spots:
             return Failure(A, "no_spot", "no free floor next to the robot")
         # Out of the way: where it leaves every waypoint the robot reaches now reachable (it must
@@ -303,7 +308,6 @@ class PutDown(Unit):
         grid = belief.room.grid(self.ctx.floor(without=self.item))
         points = list(belief.facts().points.values())
         needed = [q for q, n in zip(points, grid.lengths_from(pose, points), strict=True) if n is not None]
-        item = belief.items[self.item]
         self.spot = max(
             spots,
             key=lambda p: (
