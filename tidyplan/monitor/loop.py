@@ -90,7 +90,6 @@ class Mission:
         self._exhausted: Counter[tuple[str, str | None]] = Counter()  # (action, failure) -> times
         self._why: Counter[tuple[str, str]] = Counter()  # (cause, why) -> replans: what repeated
         self._went_to_look: Counter[str] = Counter()  # item -> drives to look at it before giving up
-        self._given_up: dict[str, str] = {}  # item -> the failure the error layer gave it up for
         self._verified_at: int | None = None  # actions done when the deposits were last looked into
         self._plain = trace.save("domain.pddl", self.domain_text)
 
@@ -212,8 +211,8 @@ class Mission:
                 why = "deposits looked into: " + " ".join(lost or ["new items"])
                 return self._replan(Cause.PLAN_INVALID, why)
         left = self.world.untidied()  # the referee's verdict, the one question the loop asks it
-        if self._given_up:
-            names = " ".join(sorted(self._given_up))
+        if self.belief.undeliverable:
+            names = " ".join(sorted(self.belief.undeliverable))
             return f"gave up on {names}, the rest tidied; the world has {len(left)} items left"
         if left:
             return f"belief says tidy, the world has {len(left)} items left"
@@ -302,19 +301,18 @@ class Mission:
 
     def _open(self) -> list:
         """The untidied items the loop still plans for: all but those given up."""
-        return [k for k in self.belief.untidied() if k.name not in self._given_up]
+        return [k for k in self.belief.untidied() if k.name not in self.belief.undeliverable]
 
     def _give_up(self, item: str, why: str) -> None:
         """Yamazaki's error layer, last word: the task is reworked without ``item`` (left where
         it is, or put down wherever a plan puts it), and the rest of the room is tidied."""
-        self._given_up[item] = why
-        self.belief.undeliverable.add(item)
+        self.belief.undeliverable.add(item)  # the one record of it: problems and goals read it
         self._went_to_look[item] = LOOKS_BEFORE_GIVING_UP  # nothing to look at it for
         self.trace.emit("give_up", item=item, why=why)
 
     def _goals(self):
         facts = self.belief.facts()
-        out = [(label, [g for g in goal if g not in self._given_up], virtual)
+        out = [(label, [g for g in goal if g not in self.belief.undeliverable], virtual)
                for label, goal, virtual in goals(self.belief, facts)]  # fmt: skip
         self._facts, self._seen = facts, out[-1][1]
         return out[:-1] + [("feasible", None, [])]
