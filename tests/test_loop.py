@@ -374,3 +374,30 @@ def test_unknown_planner_is_exit_2_before_any_trace_is_written(tidyplan_cmd, tmp
     assert done.returncode == 2
     assert "planner 'nosuch'" in done.stderr and "Traceback" not in done.stderr
     assert not trace.exists() and not trace.with_suffix(".pddl").exists()
+
+
+def test_the_action_limit_grows_with_the_items_the_robot_knows_of(tmp_path):
+    """O-FSM halts after a cap on actions: 25 for each item the robot is told of (or has seen, when
+    more), never under 300. A fixed 300 stopped a 96-object room at 70 tidied (four actions a
+    delivery); a 3-toy room keeps the floor of 300."""
+    from tidyplan.belief import Belief, Detection
+    from tidyplan.exec.bindings import MonitoredExecutor
+    from tidyplan.exec.geometry import RoomMap
+    from tidyplan.exec.symbolic import SymbolicWorld
+    from tidyplan.mission import DOMAIN
+    from tidyplan.monitor.loop import LoopConfig, Mission
+    from tidyplan.trace import TraceWriter
+
+    def cap(scenario, seen=()):
+        room = RoomMap(scenario)
+        world, belief = SymbolicWorld(scenario, room, seed=0), Belief(scenario, room)
+        belief.observe([Detection("toy", x, y, "floor") for x, y in seen], None)
+        with TraceWriter(tmp_path / f"{scenario.name}.jsonl", clock=lambda: 0.0) as trace:
+            mission = Mission(DOMAIN, belief, MonitoredExecutor(world, trace.emit), world, None, trace, LoopConfig())
+            return mission._action_cap()
+
+    toys = [(f"t{k}", 0.8 + 0.3 * (k % 6), 0.6 + 0.3 * (k // 6)) for k in range(16)]
+    assert cap(_scenario("three", toys[:3])) == 300
+    assert cap(_scenario("sixteen", toys)) == 400  # told of 16
+    untold = _scenario("unknown", toys[:3], prior=False)
+    assert cap(untold, seen=[(x, y) for _, x, y in toys[:14]]) == 350  # seen 14, told nothing
