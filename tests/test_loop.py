@@ -393,7 +393,9 @@ def test_the_action_limit_grows_with_the_items_the_robot_knows_of(tmp_path):
         world, belief = SymbolicWorld(scenario, room, seed=0), Belief(scenario, room)
         belief.observe([Detection("toy", x, y, "floor") for x, y in seen], None)
         with TraceWriter(tmp_path / f"{scenario.name}.jsonl", clock=lambda: 0.0) as trace:
-            mission = Mission(DOMAIN, belief, MonitoredExecutor(world, trace.emit), world, None, trace, LoopConfig())
+            mission = Mission(
+                DOMAIN, belief, MonitoredExecutor(world, trace.emit), world, None, trace, LoopConfig()
+            )
             return mission._action_cap()
 
     toys = [(f"t{k}", 0.8 + 0.3 * (k % 6), 0.6 + 0.3 * (k // 6)) for k in range(16)]

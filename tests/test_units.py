@@ -174,7 +174,9 @@ def test_an_item_beside_the_base_is_not_forgotten_by_looks_that_cannot_see_the_f
     belief = Belief(scenario, RoomMap(scenario))
     belief.robot = (1.5, 1.0)
     near = belief.observe([Detection("toy", 1.5, 1.25, "floor")], None).new[0]  # 0.25 m out
-    far = belief.observe([Detection("toy", 1.5, 1.25, "floor"), Detection("toy", 1.5, 2.7, "floor")], None).new[0]
+    far = belief.observe(
+        [Detection("toy", 1.5, 1.25, "floor"), Detection("toy", 1.5, 2.7, "floor")], None
+    ).new[0]
     assert not belief.should_see(belief.items[near]) and belief.should_see(belief.items[far])
     for _ in range(FORGET_AFTER + 1):
         belief.observe([], None)
