@@ -197,6 +197,8 @@ def test_a_look_that_confirms_an_item_takes_its_place_and_extent_as_it_lies_now(
     k = belief.items[name]
     assert (k.x, k.y, k.sx, k.sy, k.sz) == (1.6, 1.0, 0.45, 0.19, 0.19)
     assert belief.placed()[0].box().sx == 0.45
+    belief.relocate(name, 1.6, 1.1, (0.19, 0.45, 0.19))  # a unit's close look, turned the other way
+    assert (k.y, k.sx, k.sy) == (1.1, 0.19, 0.45)
 
 
 def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():

@@ -269,9 +269,7 @@ class Belief:
                 # a fallen item found, or one knocked aside: now its place is known
                 if k.spread or math.dist((k.x, k.y), (d.x, d.y)) > MOVED:
                     self.relocate(k.name, d.x, d.y)
-                # and its extent as it lies now: a tall box that toppled covers more floor (kept
-                # upright in the belief, the map let the base drive into it, again and again)
-                k.sx, k.sy, k.sz = d.sx, d.sy, d.sz
+                k.sx, k.sy, k.sz = d.sx, d.sy, d.sz  # and its extent as it lies now (relocate)
                 matched.add(k.name)
                 update.confirmed.append(k.name)
                 continue
@@ -373,12 +371,16 @@ class Belief:
         self.scene_changed = True
         self.unsee(near, spread + 0.4)  # a look for it covers where it may have rolled
 
-    def relocate(self, name: str, x: float, y: float) -> None:
-        """A close look found the item at (x, y)."""
+    def relocate(self, name: str, x: float, y: float, size: tuple[float, float, float] | None = None) -> None:
+        """A look found the item at (x, y), ``size`` (sx, sy, sz) as it lies now: a tall box that
+        toppled covers more floor (kept upright in the belief, the map let the base drive into it,
+        and a put-down ring fit for it upright shut the robot in)."""
         k = self.items[name]
         if math.dist((k.x, k.y), (x, y)) > 0.02:
             self.sticky.pop(name, None)  # the grasp pose chosen for the old place may not fit
         k.x, k.y, k.spread, k.misses = x, y, 0.0, 0
+        if size is not None:
+            k.sx, k.sy, k.sz = size
 
     def delivered(self, name: str, deposit: str) -> None:
         k = self.items[name]

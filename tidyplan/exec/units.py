@@ -379,7 +379,7 @@ def _locate(ctx: Context, item: str, unit) -> Failure | None:
     seen = ctx.world.locate((k.x, k.y), max(FIND_RADIUS, k.spread), k.category)
     if seen is None:
         return Failure(A, "not_found", f"no {k.category} near ({k.x:.2f}, {k.y:.2f})")
-    ctx.belief.relocate(item, seen.x, seen.y)
+    ctx.belief.relocate(item, seen.x, seen.y, (seen.sx, seen.sy, seen.sz))
     unit.target = (seen.x, seen.y)
     unit.reach = ctx.world.grasp_distances(seen.sz)
     return None
