@@ -71,12 +71,15 @@ def test_anytime_search_stops_at_the_deadline_and_keeps_its_best_plan(
     monkeypatch.chdir(tmp_path)
     before = _engine_processes()
     start = time.perf_counter()
-    result = plan(*every_move_open, planner=planner, time_budget=1.0)
+    # 3 s: LAMA's first plan takes a fraction of it even on a loaded machine (with 1 s, in a fresh
+    # clone, no plan at all was found once); the optimal search alone takes seconds
+    result = plan(*every_move_open, planner=planner, time_budget=3.0)
     elapsed = time.perf_counter() - start
     assert result.status is Status.SOLVED
     assert len(result.steps) >= 12 * 4
-    # the budget is the whole call; a little slack for a loaded machine
-    assert elapsed < 1.5
+    # the budget is the whole call: the engines are stopped at it, not left to finish (the
+    # slack is for stopping them and reading the plan back on a loaded machine)
+    assert elapsed < 3.0 + 2.0
     time.sleep(0.2)
     assert _engine_processes() - before == set(), "an engine process outlived the call"
     assert os.listdir(tmp_path) == ["tidy-12.pddl"], "the engine wrote into the working directory"
@@ -121,20 +124,32 @@ def test_an_interrupted_race_leaves_no_engine_running(every_move_open):
 
     before = _engine_processes()
     seen: list[set] = []
+    done = threading.Event()
 
     def interrupt_when_both_search() -> None:
-        for _ in range(1000):
+        while not done.is_set():
             running = _engine_processes(SEARCH_BINARY) - before
             if len(running) >= 2:
                 seen.append(running)
-                break
+                os.kill(os.getpid(), signal.SIGINT)
+                return
             time.sleep(0.01)
-        os.kill(os.getpid(), signal.SIGINT)
 
-    threading.Thread(target=interrupt_when_both_search, daemon=True).start()
-    with pytest.raises(KeyboardInterrupt):
-        plan(*every_move_open, planner="lama-optimal", time_budget=60.0)
-    assert seen, "the two searches never ran side by side"
+    # Both searches must be caught running side by side; when they end before the watcher sees
+    # them (a fresh clone once), that try proves nothing and the call is made again.
+    for _ in range(3):
+        done.clear()
+        watcher = threading.Thread(target=interrupt_when_both_search, daemon=True)
+        watcher.start()
+        try:
+            plan(*every_move_open, planner="lama-optimal", time_budget=60.0)
+        except KeyboardInterrupt:
+            break
+        finally:
+            done.set()
+            watcher.join()
+        assert not seen, "interrupted, yet the call returned normally"
+    assert seen, "the two searches never ran side by side in three tries"
     time.sleep(0.3)
     assert _engine_processes() - before == set()
 
