@@ -1,11 +1,12 @@
 """The WRS tidy-up room in pybullet, built from a scenario file (``sim.scenario``).
 
 Walls (1.5 m high, 0.3 m thick, standing outside the bounds) with the 1.2 m door at the
-entrance shut, furniture as solid boxes of the scenario's footprint and height, each deposit a
-tray (the WRS tray's size) with a rim on the furniture it stands on, and the items: small boxes of
-0.1 kg that physics can drop, tip and settle, with continuous collision detection. Colours follow
-the item categories (the deposits share their category's colour). The robot is placed at the
-entrance facing the scenario's heading.
+entrance shut, furniture as solid boxes of the scenario's footprint and height (a bin: an open
+box of that size, WRS bins being 0.33 m deep), each deposit a tray (the WRS tray's size) with a
+rim on the furniture it stands on (a deposit at a bin's rim: the bin itself), and the items:
+small boxes of 0.1 kg that physics can drop, tip and settle, with continuous collision
+detection. Colours follow the item categories (the deposits share their category's colour). The
+robot is placed at the entrance facing the scenario's heading.
 
 Nothing that physics moves may leave the room (measured, docs/world.md): a tall box knocked out
 of a tray on a 0.4 m table at 2 m/s went over 0.6 m walls, and at 1 m/s tipped over a 0.12 m
@@ -25,7 +26,7 @@ from dataclasses import dataclass, field, replace
 import pybullet as p
 
 from sim.robot import HSR
-from sim.scenario import Scenario
+from sim.scenario import Furniture, Scenario
 
 # m: the WRS asks for 0.6 m at least; 1.5 m is above a 0.45 m box standing on the 0.94 m drawer
 # top, a deposit. 0.3 m thick: an item pressed into a wall, its centre up to 12 cm past the face,
@@ -33,6 +34,7 @@ from sim.scenario import Scenario
 WALL_HEIGHT, WALL_THICKNESS = 1.5, 0.30
 DOOR = 1.2  # m, in the wall nearest the entrance: shut, a door leaf of the wall's height and thickness
 TRAY, RIM = 0.38, 0.05  # m: inner side of a deposit tray (the WRS food tray, 0.38 x 0.36), rim height
+BIN, BIN_WALL = "bin", 0.015  # the furniture kind built as an open box; m, its sides and bottom
 ITEM_MASS = 0.1  # kg
 # continuous collision detection for the items: a swept sphere of half the thinnest half-size
 # (inside the box), which pybullet uses once a step moves the item more than half that radius
@@ -78,9 +80,16 @@ def build(scenario: Scenario, client: int) -> Room:
     room.walls, room.door = _walls(client, scenario)
     for f in scenario.furniture:
         colour = FURNITURE_COLOUR.get(f.kind, (0.7, 0.7, 0.68))
-        room.furniture[f.name] = _box(client, (f.cx, f.cy, f.height / 2), (f.sx, f.sy, f.height), colour)
+        if f.kind == BIN:
+            room.furniture[f.name] = _bin(client, f, colour)
+        else:
+            room.furniture[f.name] = _box(client, (f.cx, f.cy, f.height / 2), (f.sx, f.sy, f.height), colour)
     for d in scenario.deposits:
-        room.deposits[d.name] = _tray(client, (d.x, d.y, d.z), room.colour(d.category))
+        held_by = holder(scenario, d)
+        if held_by is not None:
+            room.deposits[d.name] = room.furniture[held_by.name]
+        else:
+            room.deposits[d.name] = _tray(client, (d.x, d.y, d.z), room.colour(d.category))
     for i in scenario.items:
         z = scenario.item_base_z(i) + i.sz / 2
         room.items[i.name] = _item(client, (i.x, i.y, z), (i.sx, i.sy, i.sz), room.colour(i.category))
@@ -121,6 +130,43 @@ def _walls(client: int, s: Scenario) -> tuple[list[int], int]:
     return bodies, door
 
 
+def holder(scenario: Scenario, deposit) -> Furniture | None:
+    """The bin whose inside ``deposit`` is: a piece of kind "bin" under its place, the place at
+    the bin's rim. Objects are dropped into a bin; everywhere else a deposit is a tray."""
+    for f in scenario.furniture:
+        if (
+            f.kind == BIN
+            and f.box().clearance(deposit.x, deposit.y) == 0.0
+            and abs(deposit.z - f.height) < 0.02
+        ):
+            return f
+    return None
+
+
+def opening(scenario: Scenario, deposit) -> tuple[float, float, float, float]:
+    """(x0, x1, y0, y1) of what holds a deposit's objects: a bin's inside, else its tray's."""
+    f = holder(scenario, deposit)
+    if f is not None:
+        hx, hy = f.sx / 2 - BIN_WALL, f.sy / 2 - BIN_WALL
+        return f.cx - hx, f.cx + hx, f.cy - hy, f.cy + hy
+    h = TRAY / 2
+    return deposit.x - h, deposit.x + h, deposit.y - h, deposit.y + h
+
+
+def _bin(client: int, f: Furniture, colour) -> int:
+    """An open box of the piece's footprint and height: a bottom and four sides, one body. What
+    is dropped in stays in, stacked or leaning, as in the WRS bins (0.38 x 0.33 x 0.33)."""
+    t, hx, hy, h = BIN_WALL, f.sx / 2, f.sy / 2, f.height
+    parts = [
+        ((0, 0, t / 2), (hx, hy, t / 2)),
+        ((hx - t / 2, 0, h / 2), (t / 2, hy, h / 2)),
+        ((-hx + t / 2, 0, h / 2), (t / 2, hy, h / 2)),
+        ((0, hy - t / 2, h / 2), (hx, t / 2, h / 2)),
+        ((0, -hy + t / 2, h / 2), (hx, t / 2, h / 2)),
+    ]
+    return _compound(client, parts, (f.cx, f.cy, 0.0), colour)
+
+
 def _tray(client: int, at: tuple[float, float, float], colour) -> int:
     """A square tray on the surface at ``at`` (x, y, top of the furniture): a base and four rims,
     one body so that it is one deposit."""
@@ -134,6 +180,11 @@ def _tray(client: int, at: tuple[float, float, float], colour) -> int:
         (0, -half, half, 0.01),
     ):
         parts.append(((dx, dy, RIM / 2), (hx, hy, RIM / 2)))
+    return _compound(client, parts, (x, y, z), colour)
+
+
+def _compound(client: int, parts, at, colour) -> int:
+    """A static body of boxes, each (offset from ``at``, half extents)."""
     shapes = [p.GEOM_BOX] * len(parts)
     extents = [list(e) for _, e in parts]
     offsets = [list(o) for o, _ in parts]
@@ -147,7 +198,7 @@ def _tray(client: int, at: tuple[float, float, float], colour) -> int:
         rgbaColors=[[*colour, 1]] * len(parts),
         physicsClientId=client,
     )
-    return p.createMultiBody(0, col, vis, (x, y, z), physicsClientId=client)
+    return p.createMultiBody(0, col, vis, at, physicsClientId=client)
 
 
 def _box(client: int, centre, size, colour) -> int:
@@ -179,6 +230,7 @@ def _item(client: int, centre, size, colour) -> int:
     return body
 
 
-def in_tray(deposit_xy: tuple[float, float], xy: tuple[float, float]) -> bool:
-    """Is a point (an object's centre) inside the tray of the deposit at ``deposit_xy``?"""
-    return abs(xy[0] - deposit_xy[0]) <= TRAY / 2 and abs(xy[1] - deposit_xy[1]) <= TRAY / 2
+def inside(held_in: tuple[float, float, float, float], xy: tuple[float, float]) -> bool:
+    """Is a point (an object's centre) inside a deposit's ``opening`` (x0, x1, y0, y1)?"""
+    x0, x1, y0, y1 = held_in
+    return x0 <= xy[0] <= x1 and y0 <= xy[1] <= y1

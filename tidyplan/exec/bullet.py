@@ -29,7 +29,7 @@ import pybullet as p
 from sim.camera import Camera
 from sim.motion import TOUCH, base_contacts, blocked, contacts, settle
 from sim.robot import RAISED, STOW
-from sim.room import build, in_tray
+from sim.room import build, inside, opening
 from sim.scenario import Scenario
 from tidyplan.exec.bullet_hand import SETTLE_S, Hand
 from tidyplan.exec.bullet_look import HeadCamera
@@ -181,13 +181,12 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
         """Step physics with the robot holding still; then read back where every object rests: a
         release or a fall may knock others over, out of a deposit too (no longer tidied)."""
         settle(self.hsr, SETTLE_S)
-        trays = {d.name: d for d in self.scenario.deposits}
+        openings = {d.name: opening(self.scenario, d) for d in self.scenario.deposits}
         for name, item in self.items.items():
             if item.state == "held":
                 continue
             self._sync(name)
-            d = trays.get(item.deposit or "")
-            if item.state == "tidied" and not in_tray((d.x, d.y), (item.x, item.y)):
+            if item.state == "tidied" and not inside(openings[item.deposit], (item.x, item.y)):
                 item.state, item.deposit = "placed", None
                 self.knocked.append(name)
 
