@@ -2,6 +2,7 @@
 
 import os
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -16,9 +17,27 @@ ROOT = Path(__file__).parent.parent
 sys.path.insert(0, str(ROOT / "bench"))
 import tidygen  # noqa: E402
 
+_ENGINE_HOME: list[str] = []  # the current test's folder for engines (see engine_home)
+
+
+@pytest.fixture(autouse=True)
+def engine_home(tmp_path_factory, monkeypatch):
+    """Each test's engines work in a folder of their own: tidyplan runs each in a temporary
+    directory, made under this one, which is their working directory. ``_engine_processes``
+    counts only those, so Fast Downward run by anything else on the machine (a benchmark beside
+    the tests) is not taken for an engine a test left behind."""
+    home = str(tmp_path_factory.mktemp("engines"))
+    monkeypatch.setattr(tempfile, "tempdir", home)
+    monkeypatch.setenv("TMPDIR", home)  # for a tidyplan run as a subprocess
+    _ENGINE_HOME[:] = [home]
+    yield home
+    _ENGINE_HOME.clear()
+
 
 def _engine_processes(marker: bytes = b"downward") -> set[int]:
-    """PIDs of running (not zombie) Fast Downward processes."""
+    """PIDs of running (not zombie) Fast Downward processes this test started (working in its
+    engine home, where a process left behind still is)."""
+    home = _ENGINE_HOME[0]
     pids = set()
     for entry in Path("/proc").iterdir():
         if not entry.name.isdigit():
@@ -26,9 +45,10 @@ def _engine_processes(marker: bytes = b"downward") -> set[int]:
         try:
             cmd = (entry / "cmdline").read_bytes()
             state = (entry / "stat").read_text().split(") ", 1)[1][0]
+            cwd = os.readlink(entry / "cwd")
         except OSError:
             continue
-        if marker in cmd and state != "Z":
+        if marker in cmd and state != "Z" and cwd.startswith(home):
             pids.add(int(entry.name))
     return pids
 
@@ -125,6 +145,9 @@ def test_an_interrupted_race_leaves_no_engine_running(every_move_open):
     before = _engine_processes()
     seen: list[set] = []
     done = threading.Event()
+    # Run in the background by a non-interactive shell (`cmd &`), Python starts with SIGINT
+    # ignored, and the interrupt below would be lost: every fresh clone run so failed here.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
 
     def interrupt_when_both_search() -> None:
         while not done.is_set():
@@ -137,18 +160,21 @@ def test_an_interrupted_race_leaves_no_engine_running(every_move_open):
 
     # Both searches must be caught running side by side; when they end before the watcher sees
     # them (a fresh clone once), that try proves nothing and the call is made again.
-    for _ in range(3):
-        done.clear()
-        watcher = threading.Thread(target=interrupt_when_both_search, daemon=True)
-        watcher.start()
-        try:
-            plan(*every_move_open, planner="lama-optimal", time_budget=60.0)
-        except KeyboardInterrupt:
-            break
-        finally:
-            done.set()
-            watcher.join()
-        assert not seen, "interrupted, yet the call returned normally"
+    try:
+        for _ in range(3):
+            done.clear()
+            watcher = threading.Thread(target=interrupt_when_both_search, daemon=True)
+            watcher.start()
+            try:
+                plan(*every_move_open, planner="lama-optimal", time_budget=60.0)
+            except KeyboardInterrupt:
+                break
+            finally:
+                done.set()
+                watcher.join()
+            assert not seen, "interrupted, yet the call returned normally"
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert seen, "the two searches never ran side by side in three tries"
     time.sleep(0.3)
     assert _engine_processes() - before == set()
