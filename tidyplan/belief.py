@@ -42,7 +42,9 @@ MISS_RANGE = 2.5  # m: a miss counts only this close; far detections are the unr
 SAME_ITEM = 0.20  # m: a detection this close to a believed item of its category is that item
 FORGET_AFTER = 3  # looks in a row that should have seen an item and did not: it is not there
 # (at a false-negative rate of 0.2, three misses in a row of a real item happen 1 time in 125)
-MOVED = 0.03  # m: a confirmed item seen this far from where it was believed has been moved there
+# m: a confirmed item seen this far from where it was believed has been moved there (and the grasp
+# pose kept for its old place is chosen again)
+MOVED = 0.03
 UNEXPLORED_SHARE = 0.02  # a viewpoint that would reveal less of the unseen space is explored
 POINT_SPACING = 0.10  # m between placement points
 LOST_RADIUS = 1.0  # m around where a lost item was (fell, knocked, not found) it is looked for again
@@ -376,7 +378,7 @@ class Belief:
         toppled covers more floor (kept upright in the belief, the map let the base drive into it,
         and a put-down ring fit for it upright shut the robot in)."""
         k = self.items[name]
-        if math.dist((k.x, k.y), (x, y)) > 0.02:
+        if math.dist((k.x, k.y), (x, y)) > MOVED:
             self.sticky.pop(name, None)  # the grasp pose chosen for the old place may not fit
         k.x, k.y, k.spread, k.misses = x, y, 0.0, 0
         if size is not None:
