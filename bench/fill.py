@@ -1,6 +1,6 @@
 """How often putting objects into the deposits leaves one outside, in the pybullet world.
 
-    python bench/fill.py SCENARIO [SCENARIO ...] [--turns 2]
+    python bench/fill.py SCENARIO [SCENARIO ...] [--turns 2] [--deposits NAME,...]
 
 For each scenario and each deposit: the deposit is filled with the scenario's objects of its
 category in every order, each object first standing on open floor at a random turn about the
@@ -67,6 +67,7 @@ def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(prog="bench/fill.py", description=__doc__.strip().splitlines()[0])
     ap.add_argument("scenarios", nargs="+", metavar="SCENARIO")
     ap.add_argument("--turns", type=int, default=2, help="random turns of the objects per order (default 2)")
+    ap.add_argument("--deposits", help="only these deposits (comma-separated names)")
     args = ap.parse_args(argv)
     if args.turns < 1:
         ap.error("--turns must be at least 1")
@@ -79,7 +80,7 @@ def main(argv: list[str]) -> int:
         room = RoomMap(scenario)
         bad = total = 0
         for d in scenario.deposits:
-            if d.approach is None:
+            if d.approach is None or (args.deposits and d.name not in args.deposits.split(",")):
                 continue
             names = [i.name for i in scenario.items if i.category == d.category]
             for seed in range(args.turns):
