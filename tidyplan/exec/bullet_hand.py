@@ -154,9 +154,9 @@ class Hand:
         return 2 * abs(shift) / (self.scenario.robot.speed / 2)
 
     def place(self, deposit: str, approach: Point) -> Outcome:
-        """Put the held object into the tray of ``deposit`` from its approach pose: turn to it,
-        reach above the tray, open, let it settle. ``place_fail`` at 1 - the deliver rate: the
-        hand does not open and the object stays in it."""
+        """Put the held object into ``deposit`` (its tray, or the bin it is) from its approach
+        pose: turn to it, reach above it, open, let it settle. ``place_fail`` at 1 - the deliver
+        rate: the hand does not open and the object stays in it."""
         if self.holding is None:
             return self._fail("hand_empty", 1.0)
         if math.dist(self.robot, approach) > 0.1:
@@ -172,7 +172,7 @@ class Hand:
         if inside(opening(self.scenario, d), (item.x, item.y)):
             item.state, item.deposit = "tidied", deposit
             return out
-        # it bounced off the tray: it lies where physics left it, for perception to find
+        # it bounced off the tray or out of the bin: it lies where physics left it, for perception
         return Outcome(False, "place_missed", out.seconds, 0.0, (item.x, item.y))
 
     def put_down(self, spot: Point) -> Outcome:
@@ -249,7 +249,10 @@ class Hand:
             return at[0], at[1], surface_z + 0.015 + centre_height  # the object's bottom 1.5 cm above
 
         middle = tuple(np.mean(spots, axis=0))
-        if self._whole_body_reach(centre_at(middle), hand_orn, middle, **held)[1] <= REACHED:
+        if (
+            len(spots) == 1
+            or self._whole_body_reach(centre_at(middle), hand_orn, middle, **held)[1] <= REACHED
+        ):
             reached, unreached = {}, _Unreached(beyond=math.dist(start, middle))
             for at in spots:
                 pose, err, shift = self._whole_body_reach(centre_at(at), hand_orn, at, unreached, **held)
