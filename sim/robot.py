@@ -66,6 +66,7 @@ IK_SEEDS = (
 )
 REACHED = 0.02  # m: the hand this close to the target counts as there
 TILT = 0.1  # rad: a hand tilted this little from the wanted orientation holds an object upright
+LEVEL = 0.2  # the vertical part of the fingertips' direction below which the hand counts as level
 TURNS = tuple(k * math.pi / 4 for k in (0, 1, -1, 2, -2, 3, -3, 4))  # rad about the vertical, nearest first
 
 
@@ -95,6 +96,7 @@ class HSR:
         self.base_link = self.links["base_link"]
         self.grasp_link = self.links["hand_grasp_frame"]
         self.camera_link = self.links["head_rgbd_sensor_link"]
+        self._level: tuple[list[tuple[float, float, float, float]], ...] | None = None  # _level_postures
         self._movable = [j for j in self.joints.values() if j.kind != p.JOINT_FIXED]
         self.set_joints(STOW)
         self.set_gripper(GRIPPER_OPEN)
@@ -207,7 +209,8 @@ class HSR:
             # the hand's frame where the carried point lands on the target
             offset = p.multiplyTransforms((0, 0, 0), wanted or orientation, carried, (0, 0, 0, 1))[0]
             aim = tuple(t - o for t, o in zip(target, offset, strict=True))
-            for seed in IK_SEEDS:
+            level = wanted is not None and abs(p.getMatrixFromQuaternion(wanted)[8]) < LEVEL
+            for seed in (*self._level_seeds(aim), *IK_SEEDS) if level else IK_SEEDS:
                 self.set_joints(seed)
                 for _ in range(4):  # re-solve from the clamped solution: limits are soft in pybullet
                     sol = p.calculateInverseKinematics(
@@ -247,6 +250,53 @@ class HSR:
             p.resetJointState(self.body, self.joints[name].index, value, physicsClientId=self.client)
         return best
 
+    def _level_seeds(self, aim: tuple[float, float, float]) -> list[dict[str, float]]:
+        """Postures that hold the hand level at ``aim`` (the hand's frame) by its distance and
+        height, the base turned to it: one with the arm lowered (the wrist bent up), one raised.
+        From the postures of IK_SEEDS pybullet's local solver stops short of a level hand: a
+        0.45 m crate held over a bin from 0.6 to 0.7 m away was reached 3 to 16 cm short, where
+        a lowered arm reaches it (docs/world.md)."""
+        if self._level is None:
+            self._level = self._level_postures()
+        bx, by, _ = self.base()
+        far = math.dist(aim[:2], (bx, by))
+        lift = self.joints["arm_lift_joint"]
+        seeds = []
+        for branch in self._level:
+            # the posture whose reach ahead, with the hand its sideways offset from the base's
+            # line, is nearest the target's distance
+            flex, ahead, aside, z0 = min(
+                branch, key=lambda r: abs(math.sqrt(max(far * far - r[2] ** 2, 0.0)) - r[1])
+            )
+            if not lift.lower <= aim[2] - z0 <= lift.upper:
+                continue
+            ahead = math.sqrt(max(far * far - aside * aside, 0.0))
+            yaw = math.atan2(aim[1] - by, aim[0] - bx) - math.atan2(aside, ahead)
+            seeds.append(
+                {
+                    **_level_arm(flex),
+                    "arm_lift_joint": aim[2] - z0,
+                    "base_yaw_joint": yaw,
+                }
+            )
+        return seeds
+
+    def _level_postures(self) -> tuple[list[tuple[float, float, float, float]], ...]:
+        """(arm flex, reach ahead of the base's centre, sideways, height) of the level hand with
+        the lift at 0, for flexes from the arm lowered to upright: two branches, the arm below
+        and above horizontal, each reaching farther as it nears horizontal."""
+        saved = {n: self.q(n) for n in (*WHOLE_BODY, "base_x_joint", "base_y_joint")}
+        self.set_base(0.0, 0.0, 0.0)
+        flex = self.joints["arm_flex_joint"]
+        rows = []
+        for a in [flex.lower + (flex.upper - flex.lower) * k / 52 for k in range(53)]:
+            self.set_joints({**_level_arm(a), "arm_lift_joint": 0.0})
+            x, y, z = self.hand()[0]
+            rows.append((a, x, y, z))
+        self.set_joints({n: v for n, v in saved.items() if n in WHOLE_BODY})
+        self.set_base(saved["base_x_joint"], saved["base_y_joint"], saved["base_yaw_joint"])
+        return [r for r in rows if r[0] <= -math.pi / 2], [r for r in rows if r[0] > -math.pi / 2]
+
     def set_gripper(self, opening: float) -> float:
         """Each finger ``opening`` m from the centre; returns the seconds."""
         return self.set_joints({"hand_l_finger_joint": opening, "hand_r_finger_joint": opening})
@@ -255,6 +305,12 @@ class HSR:
 def hand_level(yaw: float) -> tuple[float, float, float, float]:
     """The hand held level, the fingertips pointing along ``yaw`` (a side grasp)."""
     return p.getQuaternionFromEuler((0.0, math.pi / 2, yaw))
+
+
+def _level_arm(flex: float) -> dict[str, float]:
+    """The arm at ``flex`` with the wrist bent to hold the hand level (flex + wrist flex = -90
+    degrees: the stowed posture's hand, pointing ahead)."""
+    return {"arm_flex_joint": flex, "arm_roll_joint": 0.0, "wrist_flex_joint": -math.pi / 2 - flex, "wrist_roll_joint": 0.0}
 
 
 def _turn(orientation, angle: float) -> tuple[float, float, float, float]:

@@ -69,8 +69,8 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
         self._grip: int | None = None  # the grasp constraint
         self._grip_offset = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
         self._last_released: str | None = None  # the object the last release let go of
-        # the hand's orientation at the grasp, the held object's centre's height above its bottom
-        self._held_as: tuple[tuple, float] = ((0.0, 0.0, 0.0, 1.0), 0.0)
+        # the hand's orientation at the grasp, the held object's centre's and the hand's heights above its bottom
+        self._held_as: tuple[tuple, float, float] = ((0.0, 0.0, 0.0, 1.0), 0.0, 0.0)
         self.knocked: list[str] = []  # tidied objects a release or a fall knocked out of their deposit
         self._pan_forward = True  # sweeps alternate direction: no return swing
         x, y, _ = self.hsr.base()

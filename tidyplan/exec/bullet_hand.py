@@ -14,7 +14,7 @@ import pybullet as p
 
 from sim.motion import TOUCH, base_contacts, blocked, contacts
 from sim.robot import CARRY, GRIPPER_OPEN, HAND_DOWN, RAISED, REACHED, STOW, TURNS, hand_level
-from sim.room import TRAY, inside, opening
+from sim.room import BIN_WALL, TRAY, holder, inside, opening
 from tidyplan.exec.bullet_look import RECOGNISE_S
 from tidyplan.exec.symbolic import TAKE_TOLERANCE
 from tidyplan.exec.world import Outcome
@@ -35,6 +35,9 @@ TALL = 0.3  # m: an object taller is taken from the side (the top grasp could no
 
 
 SUNK = 0.05  # m: how far into a surface's top the held object may dip and still be lifted clear
+# m between a bin's rim and the hand lowering an object into it: the fingers and the wrist stay
+# above the sides, which the kinematic arm would otherwise pass through
+ABOVE_RIM = 0.05
 
 
 class Hand:
@@ -80,8 +83,10 @@ class Hand:
         seconds += self.hsr.set_gripper(min(GRIPPER_OPEN, item.sx / 2))
         self._attach(item.name)
         centre = p.getBasePositionAndOrientation(body, physicsClientId=self.client)[0]
-        # to put it down as it stood: the hand's orientation, its centre's height above its bottom
-        self._held_as = (self.hsr.hand()[1], centre[2] - z0)
+        # to put it down as it stood: the hand's orientation, its centre's and the hand's heights
+        # above its bottom
+        hand_at, hand_orn = self.hsr.hand()
+        self._held_as = (hand_orn, centre[2] - z0, hand_at[2] - z0)
         if self.rng.random() >= self.rates.take:
             seconds += self.hsr.set_joints(above)
             self._release()
@@ -165,7 +170,7 @@ class Hand:
         seconds = self.hsr.turn_to(d.x, d.y)
         self._carry_along()
         spots, fall_onto = self._free_spots(d)
-        out = self._release_at(spots, d.z + 0.01, seconds, fault_rate=self.rates.deliver, fall_onto=fall_onto)
+        out = self._release_at(spots, self._let_go_z(d), seconds, fault_rate=self.rates.deliver, fall_onto=fall_onto)
         if not out.ok:
             return out
         item = self.items[self._last_released]
@@ -174,6 +179,17 @@ class Hand:
             return out
         # it bounced off the tray or out of the bin: it lies where physics left it, for perception
         return Outcome(False, "place_missed", out.seconds, 0.0, (item.x, item.y))
+
+    def _let_go_z(self, deposit) -> float:
+        """The surface the held object is let go 1.5 cm above, in ``deposit``: a tray's top; in a
+        bin, as low as the hand can take it with the hand ABOVE_RIM over the rim. A tall box let go
+        above a 0.33 m bin's rim falls 0.35 m and may tip across the bin; lowered until the hand
+        nears the rim, it falls 0.15 m and stands in the corner it was put in."""
+        tray_top = deposit.z + 0.01
+        if holder(self.scenario, deposit) is None:
+            return tray_top
+        hand_height = self._held_as[2]  # above the object's bottom
+        return min(tray_top, max(BIN_WALL, deposit.z + ABOVE_RIM - hand_height - 0.015))
 
     def put_down(self, spot: Point) -> Outcome:
         """Put the held object on the floor at ``spot`` (next to the robot); ``place_fail`` at
@@ -239,7 +255,7 @@ class Hand:
         # the hand as it was at the grasp (turned about the vertical by a quarter turn or more: four
         # tries, where the IK may turn it a little more), the object's centre on the spot
         fall_onto = spots if fall_onto is None else fall_onto
-        hand_orn, centre_height = self._held_as
+        hand_orn, centre_height, _ = self._held_as
         carried = self._grip_offset[0]  # the object's centre in the hand's frame
         held = {"turns": self._square_turns(), "carried": carried}
         upright = {"strict": True, **held}
