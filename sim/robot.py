@@ -310,7 +310,12 @@ def hand_level(yaw: float) -> tuple[float, float, float, float]:
 def _level_arm(flex: float) -> dict[str, float]:
     """The arm at ``flex`` with the wrist bent to hold the hand level (flex + wrist flex = -90
     degrees: the stowed posture's hand, pointing ahead)."""
-    return {"arm_flex_joint": flex, "arm_roll_joint": 0.0, "wrist_flex_joint": -math.pi / 2 - flex, "wrist_roll_joint": 0.0}
+    return {
+        "arm_flex_joint": flex,
+        "arm_roll_joint": 0.0,
+        "wrist_flex_joint": -math.pi / 2 - flex,
+        "wrist_roll_joint": 0.0,
+    }
 
 
 def _turn(orientation, angle: float) -> tuple[float, float, float, float]:

@@ -33,6 +33,7 @@ from sim.room import build, inside, opening
 from sim.scenario import Scenario
 from tidyplan.exec.bullet_hand import SETTLE_S, Hand
 from tidyplan.exec.bullet_look import HeadCamera
+from tidyplan.exec.bullet_put import HeldAs
 from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.world import Odometer, Outcome, Rates, WorldReferee
 
@@ -69,8 +70,8 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
         self._grip: int | None = None  # the grasp constraint
         self._grip_offset = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
         self._last_released: str | None = None  # the object the last release let go of
-        # the hand's orientation at the grasp, the held object's centre's and the hand's heights above its bottom
-        self._held_as: tuple[tuple, float, float] = ((0.0, 0.0, 0.0, 1.0), 0.0, 0.0)
+        # the hand's orientation at the grasp; the held object's centre and the hand above its bottom
+        self._held_as = HeldAs((0.0, 0.0, 0.0, 1.0), 0.0, 0.0, 0.0)
         self.knocked: list[str] = []  # tidied objects a release or a fall knocked out of their deposit
         self._pan_forward = True  # sweeps alternate direction: no return swing
         x, y, _ = self.hsr.base()
