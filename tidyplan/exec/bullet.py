@@ -70,8 +70,9 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
         self._grip: int | None = None  # the grasp constraint
         self._grip_offset = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
         self._last_released: str | None = None  # the object the last release let go of
-        # the hand's orientation at the grasp; the held object's centre and the hand above its bottom
-        self._held_as = HeldAs((0.0, 0.0, 0.0, 1.0), 0.0, 0.0, 0.0)
+        # how the hand holds what it holds, to put it down as it stood, or stood on its end
+        self._held_as = HeldAs((0.0, 0.0, 0.0, 1.0), 0.0, 0.0, 0.0, (0.0, 0.0))
+        self._stood_up_as: HeldAs | None = None
         self.knocked: list[str] = []  # tidied objects a release or a fall knocked out of their deposit
         self._pan_forward = True  # sweeps alternate direction: no return swing
         x, y, _ = self.hsr.base()

@@ -16,7 +16,7 @@ from sim.motion import base_contacts, blocked
 from sim.robot import CARRY, GRIPPER_OPEN, HAND_DOWN, RAISED, REACHED, STOW, TURNS, hand_level
 from sim.room import inside, opening
 from tidyplan.exec.bullet_look import RECOGNISE_S
-from tidyplan.exec.bullet_put import HeldAs, PutIn, Spots, Unreached, heading
+from tidyplan.exec.bullet_put import PutIn, Spots, Unreached, fits, held_as, stood_up
 from tidyplan.exec.symbolic import TAKE_TOLERANCE
 from tidyplan.exec.world import Outcome
 
@@ -75,9 +75,11 @@ class Hand(PutIn):
         seconds += self._shifted(shift) + self.hsr.set_joints(above) + self.hsr.set_joints(at)
         seconds += self.hsr.set_gripper(min(GRIPPER_OPEN, item.sx / 2))
         self._attach(item.name)
-        centre, orn = p.getBasePositionAndOrientation(body, physicsClientId=self.client)
-        hand_at, hand_orn = self.hsr.hand()
-        self._held_as = HeldAs(hand_orn, centre[2] - z0, hand_at[2] - z0, heading(orn))
+        # to put it down as it stands, or stood on its end where it lies too long for a deposit
+        hand = self.hsr.hand()
+        pose = p.getBasePositionAndOrientation(body, physicsClientId=self.client)
+        size = next((i.sx, i.sy, i.sz) for i in self.scenario.items if i.name == item.name)
+        self._held_as, self._stood_up_as = held_as(*hand, *pose, size), stood_up(*hand, *pose, size)
         if self.rng.random() >= self.rates.take:
             seconds += self.hsr.set_joints(above)
             self._release()
@@ -160,11 +162,18 @@ class Hand(PutIn):
         d = next(d for d in self.scenario.deposits if d.name == deposit)
         seconds = self.hsr.turn_to(d.x, d.y)
         self._carry_along()
+        held_in = opening(self.scenario, d)
+        if not fits(self._held_as.footprint, held_in):
+            # a tall box that fell over, too long to lie in the deposit (a 0.45 m crate across a
+            # 0.35 m bin, a lid that what comes next bounces off): stood on its end in the hand
+            stood = self._stood_up_as
+            if stood is not None and fits(stood.footprint, held_in):
+                self._held_as = stood
         out = self._release_at(self._free_spots(d), self._let_go_z(d), seconds, fault_rate=self.rates.deliver)
         if not out.ok:
             return out
         item = self.items[self._last_released]
-        if inside(opening(self.scenario, d), (item.x, item.y)):
+        if inside(held_in, (item.x, item.y)):
             item.state, item.deposit = "tidied", deposit
             return out
         # it bounced off the tray or out of the bin: it lies where physics left it, for perception

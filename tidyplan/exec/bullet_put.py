@@ -32,13 +32,57 @@ RIM_GAP = 0.015
 
 
 class HeldAs(NamedTuple):
-    """How the hand closed on what it holds, to put it down as it stood: the hand's orientation,
-    the object's centre and the hand above the object's bottom (m), its sides' heading (rad)."""
+    """How the hand holds what it holds, to put it down so: the hand's orientation at the let-go
+    (as it closed on the object, or turned to stand a lying box up), the object's centre and the
+    hand above the object's bottom (m), its sides' heading (rad) and its sides along the floor
+    (m), both as it will stand."""
 
     hand: tuple[float, float, float, float]
     centre_height: float
     hand_height: float
     heading: float
+    footprint: tuple[float, float]
+
+
+def held_as(hand_at, hand_orn, centre, orientation, size) -> HeldAs:
+    """``HeldAs`` for a box of ``size`` (its own axes) at ``centre`` turned by ``orientation``,
+    the hand at ``hand_at`` turned by ``hand_orn``, standing as it stands now."""
+    m = p.getMatrixFromQuaternion(orientation)
+    up = max(range(3), key=lambda k: abs(m[6 + k]))  # the box's axis nearest the vertical
+    half_height = sum(abs(m[6 + k]) * size[k] for k in range(3)) / 2
+    a, b = (size[k] for k in range(3) if k != up)
+    return HeldAs(
+        tuple(hand_orn),
+        half_height,
+        float(half_height + hand_at[2] - centre[2]),
+        heading(orientation),
+        (a, b),
+    )
+
+
+def stood_up(hand_at, hand_orn, centre, orientation, size) -> HeldAs | None:
+    """``HeldAs`` with a lying box stood on its end: the hand turned a quarter about the level
+    line across the box's long side (a top grasp on a lying crate becomes the side grasp of the
+    standing crate). None where the long side is not lying."""
+    m = p.getMatrixFromQuaternion(orientation)
+    k = max(range(3), key=lambda i: size[i])
+    u = np.array((m[k], m[3 + k], m[6 + k]))  # the long side's direction
+    if abs(u[2]) > 0.3:
+        return None
+    across = np.cross((0.0, 0.0, 1.0), u)
+    turn = p.getQuaternionFromAxisAngle(across / np.linalg.norm(across), -math.pi / 2)  # u to up
+    hand_pos = p.multiplyTransforms((0, 0, 0), turn, np.subtract(hand_at, centre), (0, 0, 0, 1))[0]
+    stood = p.multiplyTransforms((0, 0, 0), turn, (0, 0, 0), orientation)[1]
+    hand = p.multiplyTransforms((0, 0, 0), turn, (0, 0, 0), hand_orn)[1]
+    return held_as(np.add(centre, hand_pos), hand, centre, stood, size)
+
+
+def fits(footprint: tuple[float, float], held_in: tuple[float, float, float, float]) -> bool:
+    """Does a box of ``footprint``, turned square, fit inside ``held_in`` (x0, x1, y0, y1)?"""
+    x0, x1, y0, y1 = held_in
+    a, b = sorted(footprint)
+    c, d = sorted((x1 - x0, y1 - y0))
+    return a < c and b < d
 
 
 def heading(orientation) -> float:
@@ -138,18 +182,6 @@ class PutIn:
         pose = self._clear(pose, centre_at(fall_onto[0]), hand_orn, tilted) if err <= REACHED else None
         return None if pose is None else (pose, 0.0)
 
-    def _footprint(self) -> tuple[float, float]:
-        """The held box's sides along the floor as the hand holds it (as it stood at the grasp):
-        the scenario's size less the side nearest the vertical. Not its bounding box, which a
-        box turned 45 degrees widens by 41% (a 0.19 m crate's spots in a bin narrowed to the
-        middle)."""
-        size = next((i.sx, i.sy, i.sz) for i in self.scenario.items if i.name == self.holding)
-        _, orn = p.getBasePositionAndOrientation(self.bodies[self.holding], physicsClientId=self.client)
-        m = p.getMatrixFromQuaternion(orn)
-        up = max(range(3), key=lambda k: abs(m[6 + k]))  # the box's axis nearest the vertical
-        a, b = (size[k] for k in range(3) if k != up)
-        return a, b
-
     def _square_turns(self) -> tuple[float, ...]:
         """Turns of the hand about the vertical, from its orientation at the grasp, to try, best
         first: the quarter turns that put the held object's sides along the room's axes, a
@@ -187,8 +219,8 @@ class PutIn:
         return not any(ax < x1 and x0 < bx and ay < y1 and y0 < by for x0, y0, x1, y1, _ in holds)
 
     def _lift_to_clear(self, pose: dict) -> float | None:
-        """How far the held object, with the arm at ``pose``, must go up to be inside nothing:
-        0.0 where it is clear, None where a wall or a piece of furniture is in the way beside it
+        """How far the held object, with the arm at ``pose``, must go up to be inside nothing (the
+        floor too): 0.0 where it is clear, None where a wall or a piece of furniture is in the way beside it
         (up is no way out of that; out of a surface it dipped into by SUNK at most, it is). The
         arm is left as it was."""
         saved = {name: self.hsr.q(name) for name in pose}
@@ -207,6 +239,8 @@ class PutIn:
             # dips into (the IK a few cm short at the drawer's 0.94 m) is left by going up
             if not loose and top - bottom > SUNK:
                 return None
+        if bottom < -TOUCH:  # a tilted box's corner in the floor: physics would throw it up
+            tops[self.scene.floor] = 0.0
         return max((top + 0.015 - bottom for top in tops.values()), default=0.0)
 
     def _free_spots(self, deposit) -> Spots:
@@ -221,7 +255,7 @@ class PutIn:
         next, a tall box say, finds room), then the others, the roomiest first. Only the first
         grid's spots are for letting it fall, onto the lowest first: by the rim, or from a tall
         box's top, it would fall over the rim. The robot sees the tray from its approach pose."""
-        sx, sy = self._footprint()
+        sx, sy = self._held_as.footprint
         half = math.hypot(sx, sy) / 2  # it may stand turned any way about the vertical
         x0, x1, y0, y1 = held_in = opening(self.scenario, deposit)
         held = self.bodies[self.holding]

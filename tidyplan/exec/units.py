@@ -28,7 +28,6 @@ Point = tuple[float, float]
 A, B, C = FailureClass.A, FailureClass.B, FailureClass.C
 
 FIND_RADIUS = 0.25  # m around the believed place a close look searches for the target
-PUT_DOWN_AT = 0.45  # m from the base's centre an item is put down on the floor (drop_object)
 FALL_SPREAD = 0.6  # m from where the hand let go that a dropped item is searched for
 ADJUST_PATH_MAX = 1.5  # m: the longest careful base adjustment around an item
 AT_POSE = 0.03  # m: the robot stands at a pose when this close
@@ -296,9 +295,12 @@ class PutDown(Unit):
         centre = ((x0 + x1) / 2, (y0 + y1) / 2)
         occupied = [p.xy for p in belief.placed()] + self.tried
         item = belief.items[self.item]
-        # far enough out that the item, turned any way, leaves the robot's own cell free: a long
-        # box (a toolbox lying, 0.45 m) put down 0.45 m out shut the robot in beside it
-        out = max(PUT_DOWN_AT, belief.room.nav_radius + math.hypot(item.sx, item.sy) / 2 + 0.02)
+        # where the arm puts it down upright (a tall box held level by its side, 0.62 m out: at
+        # 0.45 m the level hand was too close, the box let go tilted and toppled), and far enough
+        # out that the item, turned any way, leaves the robot's own cell free: a long box (a
+        # toolbox lying, 0.45 m) put down 0.45 m out shut the robot in beside it
+        reach = self.ctx.world.grasp_distances(item.sz)[1]
+        out = max(reach, belief.room.nav_radius + math.hypot(item.sx, item.sy) / 2 + 0.02)
         spots = free_spots(belief.scenario, self.ctx.world.pose(), occupied, (out, out))
         if not spots:
             return Failure(A, "no_spot", "no free floor next to the robot")
