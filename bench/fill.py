@@ -5,9 +5,10 @@
 For each scenario and each deposit: the deposit is filled with the scenario's objects of its
 category in every order, each object first standing on open floor at a random turn about the
 vertical (``--turns`` draws per order, seeded 0, 1, ...), taken from there and put in from the
-deposit's approach pose, the other objects taken out of the room; no injected faults (every grasp and release succeeds). Prints each
-filling that left an object outside its deposit (with the failures of the puts), then per
-scenario the count of such fillings. Bad files or options exit 2.
+deposit's approach pose, the other objects taken out of the room; no injected faults (every
+grasp and release succeeds). Prints each filling that left an object outside its deposit (with
+the failures of the puts), then per scenario the count of such fillings. Bad files or options
+exit 2.
 """
 
 from __future__ import annotations

@@ -63,6 +63,8 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
         if gui:
             p.configureDebugVisualizer(p.COV_ENABLE_GUI, 0, physicsClientId=self.client)
         self.scene = build(scenario, self.client)
+        # (x0, x1, y0, y1) of what holds each deposit's objects: its tray's or its bin's inside
+        self.openings = {d.name: opening(scenario, d) for d in scenario.deposits}
         self.hsr = self.scene.robot
         s = scenario.sensing
         self.camera = Camera(s.fov_h_deg, s.fov_v_deg, s.range_min, s.range_max)
@@ -183,12 +185,11 @@ class BulletWorld(Hand, HeadCamera, WorldReferee):
         """Step physics with the robot holding still; then read back where every object rests: a
         release or a fall may knock others over, out of a deposit too (no longer tidied)."""
         settle(self.hsr, SETTLE_S)
-        openings = {d.name: opening(self.scenario, d) for d in self.scenario.deposits}
         for name, item in self.items.items():
             if item.state == "held":
                 continue
             self._sync(name)
-            if item.state == "tidied" and not inside(openings[item.deposit], (item.x, item.y)):
+            if item.state == "tidied" and not inside(self.openings[item.deposit], (item.x, item.y)):
                 item.state, item.deposit = "placed", None
                 self.knocked.append(name)
 

@@ -14,7 +14,7 @@ import pybullet as p
 
 from sim.motion import base_contacts, blocked
 from sim.robot import CARRY, GRIPPER_OPEN, HAND_DOWN, RAISED, REACHED, STOW, TURNS, hand_level
-from sim.room import inside, opening
+from sim.room import inside
 from tidyplan.exec.bullet_look import RECOGNISE_S
 from tidyplan.exec.bullet_put import PutIn, Spots, Unreached, fits, held_as, stood_up
 from tidyplan.exec.symbolic import TAKE_TOLERANCE
@@ -35,9 +35,9 @@ TALL = 0.3  # m: an object taller is taken from the side (the top grasp could no
 
 class Hand(PutIn):
     """Manipulation for ``BulletWorld``: ``grasp``, ``place``, ``put_down``. Uses the world's
-    ``hsr``, ``client``, ``scene``, ``bodies``, ``items``, ``scenario``, ``robot``, ``holding``,
-    its seeded ``rng`` and ``rates``, and its ``_place_base``, ``_ignored``, ``_settle``,
-    ``_sync``, ``_spend`` and ``_fail``."""
+    ``hsr``, ``client``, ``scene``, ``bodies``, ``items``, ``scenario``, ``openings``, ``robot``,
+    ``holding``, its seeded ``rng`` and ``rates``, and its ``_place_base``, ``_ignored``,
+    ``_settle``, ``_sync``, ``_spend`` and ``_fail``."""
 
     def grasp(self, target: Point) -> Outcome:
         """Turn to the object at ``target``, bring the hand onto it (inverse kinematics; the base
@@ -162,7 +162,7 @@ class Hand(PutIn):
         d = next(d for d in self.scenario.deposits if d.name == deposit)
         seconds = self.hsr.turn_to(d.x, d.y)
         self._carry_along()
-        held_in = opening(self.scenario, d)
+        held_in = self.openings[deposit]
         if not fits(self._held_as.footprint, held_in):
             # a tall box that fell over, too long to lie in the deposit (a 0.45 m crate across a
             # 0.35 m bin, a lid that what comes next bounces off): stood on its end in the hand

@@ -16,7 +16,7 @@ import pybullet as p
 
 from sim.motion import TOUCH, contacts
 from sim.robot import REACHED
-from sim.room import BIN_WALL, TRAY, holder, inside, opening
+from sim.room import BIN_WALL, TRAY, holder, inside
 
 Point = tuple[float, float]
 
@@ -108,8 +108,8 @@ class Spots:
 class PutIn:
     """The search for where and how to let go, for ``Hand``: ``_free_spots``, ``_let_go_z``,
     ``_pose_to_let_go``. Uses the world's ``hsr``, ``client``, ``scene``, ``bodies``, ``items``,
-    ``scenario``, ``robot``, ``holding`` and the hand's ``_held_as``, ``_grip_offset``,
-    ``_whole_body_reach``, ``_place_base`` and ``_carry_along``."""
+    ``scenario``, ``openings``, ``robot``, ``holding`` and the hand's ``_held_as``,
+    ``_grip_offset``, ``_whole_body_reach``, ``_place_base`` and ``_carry_along``."""
 
     def _let_go_z(self, deposit) -> float:
         """The surface the held object is let go 1.5 cm above, in ``deposit``: a tray's top; in a
@@ -126,8 +126,9 @@ class PutIn:
         """(arm pose, base shift) that put the held object at one of ``spots``, the base left at
         the shift; None where none will do. In this order:
 
-        1. upright, held as it stood at the grasp (the base backing off or sliding in a little
-           where the arm alone cannot), at the first of ``spots.clear`` where it lands clear
+        1. upright, held as ``_held_as`` says (as it stood at the grasp, or stood on its end;
+           the base backing off or sliding in a little where the arm alone cannot), at the
+           first of ``spots.clear`` where it lands clear
            (``_lands_clear``: it touches nothing and nothing the deposit holds is under it);
            then at the first of ``spots.fall_onto`` (at most 4) held just above what it would
            be inside of (``_clear``), to fall onto it. Tried only where the arm holds it upright
@@ -138,8 +139,8 @@ class PutIn:
 
         Every spot is tried landing clear before any is tried on top of what the deposit holds:
         on top of a tall box, an object topples off, out of a tray or a bin."""
-        # the hand as it was at the grasp (turned about the vertical by a quarter turn or more: four
-        # tries, where the IK may turn it a little more), the object's centre on the spot
+        # the hand as it holds the object (turned about the vertical by a quarter turn or more:
+        # four tries, where the IK may turn it a little more), the object's centre on the spot
         fall_onto, holds = spots.fall_onto, spots.holds
         hand_orn, centre_height = self._held_as.hand, self._held_as.centre_height
         carried = self._grip_offset[0]  # the object's centre in the hand's frame
@@ -257,7 +258,7 @@ class PutIn:
         box's top, it would fall over the rim. The robot sees the tray from its approach pose."""
         sx, sy = self._held_as.footprint
         half = math.hypot(sx, sy) / 2  # it may stand turned any way about the vertical
-        x0, x1, y0, y1 = held_in = opening(self.scenario, deposit)
+        x0, x1, y0, y1 = held_in = self.openings[deposit.name]
         held = self.bodies[self.holding]
         others = []
         for name, body in self.bodies.items():
