@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from importlib.resources import files
 from pathlib import Path
 
 from sim.scenario import Scenario
@@ -22,7 +23,7 @@ from tidyplan.exec.world import Rates
 from tidyplan.monitor.loop import LoopConfig, Mission
 from tidyplan.monitor.recovery import RecoveryConfig
 from tidyplan.planner import PlanResult, Status, plan
-from tidyplan.trace import TraceWriter
+from tidyplan.trace import NoTrace, TraceWriter
 
 RETRIES = 5  # budgets 1x, 3x, 9x, 27x, 81x: a search that ran out of time is tried again, longer
 # Tries before a stratum that ran out of time may hand over to the next one unproven: until
@@ -32,10 +33,17 @@ STRICT_TRIES = 2
 
 
 def project_file(relative: str) -> Path:
-    """A file of the project (domains/, problems/): beside the package in a clone or an editable
-    install; from the working directory when the package was installed into site-packages."""
-    beside = Path(__file__).resolve().parent.parent / relative
-    return beside if beside.exists() else Path.cwd() / relative
+    """A file the project ships (``domains/NAME``, ``problems/NAME``): from the package, which
+    carries both folders as ``tidyplan.domains`` and ``tidyplan.problems`` (pyproject.toml), or
+    from beside the package where a clone runs without being installed."""
+    folder, _, name = relative.partition("/")
+    try:
+        shipped = Path(str(files(f"tidyplan.{folder}") / name))
+    except ModuleNotFoundError:
+        shipped = None
+    if shipped is not None and shipped.exists():
+        return shipped
+    return Path(__file__).resolve().parent.parent / relative
 
 
 DOMAIN = project_file("domains/tidy.pddl")
@@ -56,7 +64,7 @@ class Settings:
 
 def run(
     scenario: Scenario | str | Path,
-    trace_path: str | Path,
+    trace_path: str | Path | None,
     settings: Settings = Settings(),
     domain: str | Path = DOMAIN,
     on_event=None,
@@ -92,7 +100,8 @@ def _run(scenario, room, world, trace_path, settings, domain, on_event, started)
     def planner(d, p, max_stratum):
         return plan_with_retries(d, p, settings.planner, settings.time_budget, max_stratum)
 
-    with TraceWriter(trace_path, clock=lambda: world.odometer.sim_time_s) as trace:
+    clock = lambda: world.odometer.sim_time_s  # noqa: E731
+    with TraceWriter(trace_path, clock) if trace_path is not None else NoTrace(clock) as trace:
         if on_event is not None:
             trace.listener = on_event
         config = LoopConfig(strategy=settings.strategy, min_probability=settings.min_probability)
@@ -144,7 +153,7 @@ def _summary(scenario, settings, world, belief, mission, outcome, started, trace
         "sim_time_s": round(world.odometer.sim_time_s, 1),
         "wall_time_s": round(time.perf_counter() - started, 2),
         "replan_time_s": mission.count.plan_time_summary(),
-        "trace": str(trace_path),
+        "trace": None if trace_path is None else str(trace_path),
     }
 
 

@@ -21,21 +21,13 @@ from tidyplan.pddl.writer import domain_text, problem_text
 SCHEMA_VERSION = 1
 
 
-class TraceWriter:
-    """Append events to a JSON-lines file; the folder beside it holds the PDDL of every plan."""
+class NoTrace:
+    """The events of a run that writes no trace (``tidyplan.run(..., trace=None)``): each goes
+    to the listener only, and no PDDL is saved. ``TraceWriter`` writes them too."""
 
-    def __init__(self, path: str | os.PathLike, clock=lambda: 0.0) -> None:
-        self.path = Path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.pddl_dir = self.path.with_name(self.path.stem + ".pddl")
-        # Never overwrite: a trace, or the PDDL folder of one, that exists is someone's run.
-        self._file = open(self.path, "x", encoding="utf-8")  # noqa: SIM115 - closed in close()
-        try:
-            self.pddl_dir.mkdir()
-        except FileExistsError:
-            self._file.close()
-            self.path.unlink()
-            raise
+    path: Path | None = None
+
+    def __init__(self, clock=lambda: 0.0) -> None:
         self._seq = 0
         self._start = time.perf_counter()
         self._clock = clock
@@ -51,11 +43,50 @@ class TraceWriter:
             **fields,
         }
         self._seq += 1
-        self._file.write(json.dumps(event, separators=(",", ":")) + "\n")
-        self._file.flush()
+        self._record(event)
         if self.listener is not None:
             self.listener(event)
         return event
+
+    def _record(self, event: dict) -> None:
+        pass
+
+    def save(self, name: str, text: str) -> str | None:
+        return None
+
+    def save_replan(self, base: str, text: str, domain: m.Domain, problem: m.Problem) -> dict[str, str]:
+        return {}
+
+    def close(self) -> None:
+        pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+class TraceWriter(NoTrace):
+    """Append events to a JSON-lines file; the folder beside it holds the PDDL of every plan."""
+
+    def __init__(self, path: str | os.PathLike, clock=lambda: 0.0) -> None:
+        super().__init__(clock)
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.pddl_dir = self.path.with_name(self.path.stem + ".pddl")
+        # Never overwrite: a trace, or the PDDL folder of one, that exists is someone's run.
+        self._file = open(self.path, "x", encoding="utf-8")  # noqa: SIM115 - closed in close()
+        try:
+            self.pddl_dir.mkdir()
+        except FileExistsError:
+            self._file.close()
+            self.path.unlink()
+            raise
+
+    def _record(self, event: dict) -> None:
+        self._file.write(json.dumps(event, separators=(",", ":")) + "\n")
+        self._file.flush()
 
     def save(self, name: str, text: str) -> str:
         """Write a file into the PDDL folder; returns its path relative to the trace's folder."""
@@ -79,12 +110,6 @@ class TraceWriter:
     def close(self) -> None:
         if not self._file.closed:
             self._file.close()
-
-    def __enter__(self) -> TraceWriter:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
 
 
 def polyline(points, step: float = 0.1) -> list[list[float]]:

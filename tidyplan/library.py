@@ -1,0 +1,126 @@
+"""The library: ``tidyplan.run`` does what ``tidyplan run`` does and returns a typed summary.
+
+    import tidyplan
+    s = tidyplan.run("case3", world="symbolic", seed=1)
+    s.success, s.delivered, s.replans
+
+A scenario is a ``sim.scenario.Scenario``, a scenario file, or the name of one the package ships
+(``case1``, ``case2``, ``case3``). A trace is written only when ``trace`` names a file (never
+over an existing one). Bad input raises ``tidyplan.InputError`` with the message the command
+line prints; a mission that fails is a summary with ``success`` False, not an exception.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+
+from tidyplan.errors import InputError, PlannerError
+
+WORLDS = ("pybullet", "symbolic")
+
+
+@dataclass(frozen=True, slots=True)
+class Summary:
+    """What a mission did: the fields of ``tidyplan run --json`` (docs/trace.md, the ``summary``
+    event), typed."""
+
+    scenario: str
+    strategy: str
+    world: str
+    seed: int
+    success: bool  # every object tidied, as the world (the referee) counts them
+    reason: str
+    objects: int
+    delivered: int
+    lost_objects: int
+    escaped: list[str]  # objects physics moved out of the room (a simulation fault)
+    actions: int
+    paper_actions: int  # actions as Yan et al. count them
+    strata: dict[str, int]  # deliveries by stratum, P1 P2 P3
+    strata_unproven: int
+    replans: int
+    replan_causes: dict[str, int]
+    replans_avoided: int
+    recoveries: int
+    distance_m: float
+    sim_time_s: float
+    wall_time_s: float
+    replan_time_s: dict[str, float]  # median, max
+    trace: str | None  # the trace's path; None when none was written
+
+    @classmethod
+    def from_dict(cls, d: dict) -> Summary:
+        return cls(**{f.name: d[f.name] for f in fields(cls)})
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def run(
+    scenario="case3",
+    *,
+    world: str = "pybullet",
+    seed: int = 0,
+    strategy: str = "ofsm",
+    planner: str | None = None,
+    faults: str = "",
+    time_budget: float = 1.0,
+    min_probability: float = 1e-4,
+    max_recovery: int = 3,
+    domain: str | Path | None = None,
+    trace: str | Path | None = None,
+    gui: bool = False,
+    on_event=None,
+) -> Summary:
+    """Run one mission and return its ``Summary``. The options are ``tidyplan run``'s, with the
+    same defaults; ``faults`` as ``--faults`` takes them ("grasp_drop=0.2,..."); ``on_event`` is
+    called with each trace event as it happens. ``domain``: a domain file in the dialect (by
+    default the shipped ``domains/tidy.pddl``), read and checked before the world starts."""
+    from sim.scenario import Scenario
+    from tidyplan.cli_run import _scenario, parse_faults
+    from tidyplan.engines import MISSION_ENGINE, check_name
+    from tidyplan.mission import DOMAIN, Settings, project_file
+    from tidyplan.mission import run as run_mission
+    from tidyplan.strata import STRATEGIES
+
+    if world not in WORLDS:
+        raise InputError(f"world: {world!r} is not one of {', '.join(WORLDS)}")
+    if strategy not in STRATEGIES:
+        raise InputError(f"strategy: {strategy!r} is not one of {', '.join(STRATEGIES)}")
+    if gui and world != "pybullet":
+        raise InputError("gui: only the pybullet world has a window")
+    if max_recovery < 0:
+        raise InputError(f"max_recovery: {max_recovery} is negative")
+    if not isinstance(scenario, Scenario):
+        shipped = project_file(f"problems/{scenario}.toml") if "/" not in str(scenario) else None
+        scenario = _scenario(shipped if shipped is not None and shipped.exists() else scenario)
+    planner = planner or MISSION_ENGINE
+    try:
+        check_name(planner)
+    except PlannerError as err:
+        raise InputError(f"planner: {err}") from None
+    domain_file = Path(domain) if domain is not None else DOMAIN
+    _check_domain(domain_file)
+    if trace is not None and (Path(trace).exists() or Path(trace).with_suffix(".pddl").exists()):
+        raise InputError(f"{trace}: exists; a trace is never overwritten")
+    settings = Settings(
+        strategy,
+        seed,
+        planner=planner,
+        time_budget=time_budget,
+        min_probability=min_probability,
+        rates=parse_faults(faults),
+        max_recovery=max_recovery,
+        world=world,
+        gui=gui,
+    )
+    return Summary.from_dict(run_mission(scenario, trace, settings, domain_file, on_event=on_event))
+
+
+def _check_domain(path: Path) -> None:
+    """The domain read and checked as ``tidyplan check`` does: a ``PddlError`` (an InputError)
+    with each problem as ``path:line:col: what``."""
+    from tidyplan.pddl.reader import read_domain
+
+    read_domain(path)
