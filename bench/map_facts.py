@@ -22,7 +22,7 @@ sys.path.insert(0, str(ROOT))
 def main(argv: list[str]) -> int:
     from sim.scenario import ScenarioError
     from sim.scenario_file import load
-    from tidyplan.exec.geometry import Placed, RoomMap
+    from tidyplan.geometry import Placed, RoomMap
 
     if not argv:
         print(__doc__.strip().splitlines()[2].strip(), file=sys.stderr)

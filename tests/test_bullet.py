@@ -16,8 +16,8 @@ import pytest
 from sim.scenario_file import loads
 from tidyplan.cli_run import parse_faults
 from tidyplan.exec.bullet import BACK_OFF, STEP, BulletWorld
-from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.world import Rates
+from tidyplan.geometry import RoomMap
 from tidyplan.mission import Settings, run
 
 NO_FALSE_DETECTIONS = Rates(false_negative=0.0, false_positive=0.0)

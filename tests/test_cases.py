@@ -13,7 +13,7 @@ import pytest
 from sim.scenario_file import load
 from sim.visibility import visible_items
 from tidyplan.cli_run import parse_faults
-from tidyplan.exec.geometry import ENTRANCE, Placed, RoomMap, deposit_waypoint
+from tidyplan.geometry import ENTRANCE, Placed, RoomMap, deposit_waypoint
 from tidyplan.mission import Settings, run
 
 PROBLEMS = Path(__file__).resolve().parent.parent / "problems"

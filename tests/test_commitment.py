@@ -13,8 +13,8 @@ from tests.test_loop import EXACT, _events, _plans, _scenario
 from tidyplan.belief import Belief
 from tidyplan.commitment import commitment, probability
 from tidyplan.exec.bindings import MonitoredExecutor
-from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.symbolic import SymbolicWorld
+from tidyplan.geometry import RoomMap
 from tidyplan.mission import DOMAIN, Settings, run
 from tidyplan.monitor.loop import LoopConfig, Mission
 from tidyplan.monitor.triggers import Cause

@@ -21,9 +21,9 @@ from sim.motion import TOUCH, base_contacts, contacts, settle
 from sim.room import DOOR
 from sim.scenario_file import load, loads
 from tidyplan.exec.bullet import BulletWorld
-from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.symbolic import SymbolicWorld
 from tidyplan.exec.world import Rates
+from tidyplan.geometry import RoomMap
 
 pytestmark = pytest.mark.slow
 

@@ -382,8 +382,8 @@ def test_the_action_limit_grows_with_the_items_the_robot_knows_of(tmp_path):
     delivery); a 3-toy room keeps the floor of 300."""
     from tidyplan.belief import Belief, Detection
     from tidyplan.exec.bindings import MonitoredExecutor
-    from tidyplan.exec.geometry import RoomMap
     from tidyplan.exec.symbolic import SymbolicWorld
+    from tidyplan.geometry import RoomMap
     from tidyplan.mission import DOMAIN
     from tidyplan.monitor.loop import LoopConfig, Mission
     from tidyplan.trace import TraceWriter

@@ -7,8 +7,8 @@ from pathlib import Path
 
 from sim.scenario_file import load
 from tidyplan.belief import Belief
-from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.symbolic import SymbolicWorld
+from tidyplan.geometry import RoomMap
 from tidyplan.pddl.reader import parse
 from tidyplan.problem import write
 
@@ -36,7 +36,7 @@ def test_a_robot_shut_in_a_corner_by_an_item_it_dropped_grasps_it_from_where_it_
     from the entrance: with that, every way out was blocked by the item and no plan could start
     (case III with faults, seed 1: a cup dropped beside the container)."""
     from tests.test_loop import _scenario
-    from tidyplan.exec.geometry import Placed
+    from tidyplan.geometry import Placed
 
     scenario = _scenario("pocket", [("t1", 0.9, 2.5)])
     room = RoomMap(scenario)

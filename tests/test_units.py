@@ -9,9 +9,9 @@ import math
 from dataclasses import replace
 
 from tests.test_loop import EXACT, _scenario
-from tidyplan.exec.geometry import Placed, RoomMap
 from tidyplan.exec.symbolic import SymbolicWorld
 from tidyplan.exec.world import Outcome
+from tidyplan.geometry import Placed, RoomMap
 from tidyplan.mission import Settings, run
 from tidyplan.monitor.unit import FailureClass, StateMonitor
 

@@ -34,7 +34,7 @@ import numpy as np
 from sim.scenario import Scenario
 from sim.visibility import Box3, visible, visible_points
 from tidyplan import viewpoints
-from tidyplan.exec.geometry import ENTRANCE, MapFacts, Placed, RoomMap
+from tidyplan.geometry import ENTRANCE, MapFacts, Placed, RoomMap
 
 Point = tuple[float, float]
 

@@ -17,9 +17,9 @@ from sim.scenario_file import load
 from tidyplan.belief import Belief
 from tidyplan.engines import MISSION_ENGINE
 from tidyplan.exec.bindings import MonitoredExecutor
-from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.symbolic import SymbolicWorld
 from tidyplan.exec.world import Rates
+from tidyplan.geometry import RoomMap
 from tidyplan.monitor.loop import LoopConfig, Mission
 from tidyplan.monitor.recovery import RecoveryConfig
 from tidyplan.planner import PlanResult, Status, plan

@@ -4,7 +4,7 @@ The problem is written as text in the dialect for ``domains/tidy.pddl`` and save
 trace before the planner reads it back, so what was planned on is exactly what a person can
 open, check with ``tidyplan check`` and plan again with ``tidyplan plan``.
 
-Facts, from the belief and the map (``tidyplan.exec.geometry``):
+Facts, from the belief and the map (``tidyplan.geometry``):
 - where the robot is, what it holds, where each untidied seen item is (``item-at`` its grasp
   waypoint) and that it is ``located``; tidied items are left out (nothing more to do with them);
 - unseen items as ``:virtual-objects`` with their category; ``unexplored`` viewpoints with
@@ -21,7 +21,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from tidyplan.belief import Belief
-from tidyplan.exec.geometry import MapFacts, deposit_waypoint
+from tidyplan.geometry import MapFacts, deposit_waypoint
 from tidyplan.removal import Waypoint, removal_waypoint
 
 NOT_FOR_REMOVAL = ("grasp", "deposit", "adjust", "robot")

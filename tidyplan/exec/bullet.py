@@ -34,8 +34,8 @@ from sim.scenario import Scenario
 from tidyplan.exec.bullet_hand import SETTLE_S, Hand
 from tidyplan.exec.bullet_look import HeadCamera
 from tidyplan.exec.bullet_put import HeldAs
-from tidyplan.exec.geometry import RoomMap
 from tidyplan.exec.world import Odometer, Outcome, Rates, WorldReferee
+from tidyplan.geometry import RoomMap
 
 Point = tuple[float, float]
 

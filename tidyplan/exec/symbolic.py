@@ -28,8 +28,8 @@ from sim.grid import Box
 from sim.scenario import Scenario
 from sim.visibility import Box3, visible
 from tidyplan.belief import Detection
-from tidyplan.exec.geometry import GRASP_MAX, RoomMap, free_spots
 from tidyplan.exec.world import Odometer, Outcome, Rates, TrueItem, WorldReferee
+from tidyplan.geometry import GRASP_MAX, RoomMap, free_spots
 
 Point = tuple[float, float]
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 from sim.grid import Box
 from tidyplan.belief import Belief
-from tidyplan.exec.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, free_spots
+from tidyplan.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, free_spots
 from tidyplan.monitor.unit import Failure, FailureClass, StateMonitor, Unit
 
 Point = tuple[float, float]

@@ -15,7 +15,7 @@ import numpy as np
 
 from sim.scenario import Scenario
 from tidyplan.belief import Detection
-from tidyplan.exec.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
+from tidyplan.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
 
 Point = tuple[float, float]
 LOOK_INTO_S = 2.0  # s: the head tilts to the deposit and the detector runs (as a close look)

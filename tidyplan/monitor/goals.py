@@ -9,7 +9,7 @@ the robot, as many as the paper's room.
 from __future__ import annotations
 
 from tidyplan.belief import Belief
-from tidyplan.exec.geometry import MapFacts
+from tidyplan.geometry import MapFacts
 from tidyplan.problem import robot_waypoint
 
 # Items one plan is made for, at most: the paper's room. The commitment is one delivery, so a plan

@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections import Counter
 
 from tidyplan.belief import Belief, Detection
-from tidyplan.exec.geometry import deposit_waypoint
+from tidyplan.geometry import deposit_waypoint
 from tidyplan.planner import Step
 from tidyplan.problem import robot_waypoint
 from tidyplan.trace import polyline
