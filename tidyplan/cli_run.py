@@ -12,6 +12,7 @@ from pathlib import Path
 
 from tidyplan.errors import Diagnostic, InputError
 from tidyplan.strata import STRATEGIES  # not the loop: `tidyplan check` must not load the planner stack
+from tidyplan.worlds import WORLDS
 
 DEFAULT_SCENARIO = "problems/case3.toml"
 CASES = {"I": "case1.toml", "II": "case2.toml", "III": "case3.toml"}
@@ -36,7 +37,7 @@ def add_parsers(sub, positive) -> None:
     r.add_argument("scenario", nargs="?", help=f"scenario file (default: {DEFAULT_SCENARIO})")
     r.add_argument(
         "--world",
-        choices=("pybullet", "symbolic"),
+        choices=tuple(WORLDS),
         default="pybullet",
         help="pybullet (default): the HSR in the physics world, headless unless --gui; "
         "symbolic: the fast world with a hidden truth",

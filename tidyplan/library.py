@@ -16,8 +16,7 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
 from tidyplan.errors import InputError, PlannerError
-
-WORLDS = ("pybullet", "symbolic")
+from tidyplan.worlds import WORLDS
 
 
 @dataclass(frozen=True, slots=True)

@@ -15,15 +15,16 @@ from pathlib import Path
 from sim.scenario import Scenario
 from sim.scenario_file import load
 from tidyplan.belief import Belief
+from tidyplan.contract import World
 from tidyplan.engines import MISSION_ENGINE
 from tidyplan.exec.bindings import MonitoredExecutor
-from tidyplan.exec.symbolic import SymbolicWorld
 from tidyplan.exec.world import Rates
 from tidyplan.geometry import RoomMap
 from tidyplan.monitor.loop import LoopConfig, Mission
 from tidyplan.monitor.recovery import RecoveryConfig
 from tidyplan.planner import PlanResult, Status, plan
 from tidyplan.trace import NoTrace, TraceWriter
+from tidyplan.worlds import WORLDS, world_class
 
 RETRIES = 5  # budgets 1x, 3x, 9x, 27x, 81x: a search that ran out of time is tried again, longer
 # Tries before a stratum that ran out of time may hand over to the next one unproven: until
@@ -76,22 +77,18 @@ def run(
     started = time.perf_counter()
     room = RoomMap(scenario)
     world = make_world(scenario, room, settings)
-    if settings.world == "pybullet":  # the robot's map of the furniture, read from the built scene
-        room = world.room = RoomMap(world.scene.as_built())
+    room = world.room  # the map the robot is given, as the world built it
     try:
         return _run(scenario, room, world, trace_path, settings, domain, on_event, started)
     finally:
         world.close()
 
 
-def make_world(scenario: Scenario, room: RoomMap, settings: Settings):
-    if settings.world == "pybullet":
-        from tidyplan.exec.bullet import BulletWorld  # pybullet loads only when asked for
-
-        return BulletWorld(scenario, room, seed=settings.seed, rates=settings.rates, gui=settings.gui)
-    if settings.world == "symbolic":
-        return SymbolicWorld(scenario, room, seed=settings.seed, rates=settings.rates)
-    raise ValueError(f"unknown world {settings.world!r}")
+def make_world(scenario: Scenario, room: RoomMap, settings: Settings) -> World:
+    """The world ``settings.world`` names (``tidyplan.worlds``), made for this mission."""
+    if settings.world not in WORLDS:
+        raise ValueError(f"unknown world {settings.world!r}")
+    return world_class(settings.world).for_mission(scenario, room, settings)
 
 
 def _run(scenario, room, world, trace_path, settings, domain, on_event, started) -> dict:

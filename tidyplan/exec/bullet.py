@@ -49,6 +49,14 @@ BACK_OFF = 0.10
 class BulletWorld(Hand, HeadCamera, WorldReferee):
     """The HSR in pybullet. ``gui`` opens the pybullet window and follows the robot."""
 
+    @classmethod
+    def for_mission(cls, scenario: Scenario, room: RoomMap, settings) -> BulletWorld:
+        """The world for a mission's ``settings`` (``tidyplan.mission.Settings``), the robot's
+        map of the furniture read back from the built scene."""
+        world = cls(scenario, room, seed=settings.seed, rates=settings.rates, gui=settings.gui)
+        world.room = RoomMap(world.scene.as_built())
+        return world
+
     def __init__(
         self,
         scenario: Scenario,

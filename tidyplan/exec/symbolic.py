@@ -39,6 +39,11 @@ CLOSE_RANGE = 1.2  # m: what a close-range look (head down, hand camera) sees ar
 
 
 class SymbolicWorld(WorldReferee):
+    @classmethod
+    def for_mission(cls, scenario: Scenario, room: RoomMap, settings) -> SymbolicWorld:
+        """The world for a mission's ``settings`` (``tidyplan.mission.Settings``)."""
+        return cls(scenario, room, seed=settings.seed, rates=settings.rates)
+
     def __init__(
         self,
         scenario: Scenario,

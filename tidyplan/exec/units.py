@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 from sim.grid import Box
 from tidyplan.belief import Belief
+from tidyplan.contract import Skills
 from tidyplan.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, free_spots
 from tidyplan.monitor.unit import Failure, FailureClass, StateMonitor, Unit
 
@@ -37,7 +38,7 @@ AT_POSE = 0.03  # m: the robot stands at a pose when this close
 class Context:
     """What the units of one action share: the world, the belief, and how to report a look."""
 
-    world: object
+    world: Skills
     belief: Belief
     observe: object  # observe(detections, waypoint) -> names of new items (the loop's)
     new: list[str] = field(default_factory=list)

@@ -1,21 +1,26 @@
-"""What the symbolic and the pybullet world share: fault rates, the hidden truth of each item,
-what an action's outcome is, the odometer, and the referee's view (``WorldReferee``).
+"""What the symbolic and the pybullet world share: fault rates and the referee's view of the
+hidden truth (``WorldReferee``), on the contract every world implements (``tidyplan.contract``:
+``Skills``, what the behaviour units call; ``Referee``, the truth and the verdict).
 
 The behaviour units (``tidyplan.exec.units``) reach a world only through its skills; a world
 keeps the truth the robot must not see, draws every fault from one seeded generator in a fixed
-order, and answers the referee's questions (what is untidied, where an item really is).
+order, and answers the referee's questions (what is untidied, where an item really is). Worlds
+are made by name (``tidyplan.mission.WORLDS``): a new one is one class and one entry there.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from sim.scenario import Scenario
 from tidyplan.belief import Detection
+from tidyplan.contract import Odometer, Outcome, Referee, Skills, TrueItem, World
 from tidyplan.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
+
+__all__ = ["Odometer", "Outcome", "Rates", "Referee", "Skills", "TrueItem", "World", "WorldReferee"]
 
 Point = tuple[float, float]
 LOOK_INTO_S = 2.0  # s: the head tilts to the deposit and the detector runs (as a close look)
@@ -36,38 +41,6 @@ class Rates:
     false_positive: float | None = None
     grasp_drop: float = 0.0  # per carrying motion: the item falls near the robot
     path_blocked: float = 0.0  # per motion: a transient obstacle stops the robot on its way
-
-
-@dataclass(slots=True)
-class TrueItem:
-    name: str
-    category: str
-    x: float
-    y: float
-    on: str
-    sx: float
-    sy: float
-    sz: float
-    state: str = "placed"  # placed, held, tidied
-    deposit: str | None = None
-
-
-@dataclass(frozen=True, slots=True)
-class Outcome:
-    """What the world says about one action: success, or a named failure, and its cost."""
-
-    ok: bool
-    failure: str | None = None
-    seconds: float = 0.0
-    metres: float = 0.0
-    at: Point | None = None  # where an item was put down (drop)
-
-
-@dataclass(slots=True)
-class Odometer:
-    sim_time_s: float = 0.0
-    distance_m: float = 0.0
-    track: list[Point] = field(default_factory=list)
 
 
 class WorldReferee:

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 from tidyplan import commitment
 from tidyplan.belief import Belief
+from tidyplan.contract import World
 from tidyplan.errors import PlannerError
 from tidyplan.monitor.counting import Counters
 from tidyplan.monitor.goals import goals
@@ -75,7 +76,9 @@ class Outcome:
 class Mission:
     """One run of the loop. ``planner(domain, problem, max_stratum) -> PlanResult``."""
 
-    def __init__(self, domain_path, belief: Belief, executor, world, planner, trace, config=LoopConfig()):
+    def __init__(
+        self, domain_path, belief: Belief, executor, world: World, planner, trace, config=LoopConfig()
+    ):
         self.domain: m.Domain = read_domain(domain_path)
         self.domain_text = read_text(domain_path)
         self.belief, self.executor, self.world = belief, executor, world

@@ -1,0 +1,51 @@
+"""The world contract (tidyplan.contract) and the registry of worlds (tidyplan.worlds): each world
+the registry names implements the skills and the referee, and the command line offers exactly
+the registered worlds."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from sim.scenario_file import load
+from tidyplan.cli import _parser
+from tidyplan.contract import Referee, Skills, World
+from tidyplan.geometry import RoomMap
+from tidyplan.mission import Settings, make_world
+from tidyplan.worlds import WORLDS, world_class
+
+CASE1 = Path(__file__).resolve().parents[1] / "problems" / "case1.toml"
+
+
+@pytest.mark.parametrize("name", sorted(WORLDS))
+def test_each_registered_world_implements_the_contract(name):
+    scenario = load(CASE1)
+    world = make_world(scenario, RoomMap(scenario), Settings(world=name))
+    try:
+        assert isinstance(world, Skills) and isinstance(world, Referee) and isinstance(world, World)
+        assert isinstance(world, world_class(name))
+        assert world.untidied() == sorted(i.name for i in scenario.items)  # nothing tidied yet
+        assert world.escaped() == []
+    finally:
+        world.close()
+
+
+def test_an_object_without_the_skills_is_not_a_world():
+    class Half:
+        def untidied(self):
+            return []
+
+    assert not isinstance(Half(), Skills) and not isinstance(Half(), World)
+
+
+def test_the_command_line_offers_the_registered_worlds():
+    run = _parser()._subparsers._group_actions[0].choices["run"]
+    world = next(a for a in run._actions if a.dest == "world")
+    assert set(world.choices) == set(WORLDS)
+
+
+def test_an_unknown_world_is_refused():
+    scenario = load(CASE1)
+    with pytest.raises(ValueError, match="unknown world 'mars'"):
+        make_world(scenario, RoomMap(scenario), Settings(world="mars"))

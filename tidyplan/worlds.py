@@ -1,0 +1,19 @@
+"""The worlds a mission runs in, by name. A new world is one class that implements the contract of
+``tidyplan.exec.world`` (``Skills``, ``Referee``) with a ``for_mission`` constructor, and one
+entry here. Named by ``module:class``, so that the command line lists them without loading
+numpy or pybullet."""
+
+from __future__ import annotations
+
+from importlib import import_module
+
+WORLDS = {
+    "pybullet": "tidyplan.exec.bullet:BulletWorld",  # the HSR in the physics world (the default)
+    "symbolic": "tidyplan.exec.symbolic:SymbolicWorld",  # the grid world: fast, no physics
+}
+
+
+def world_class(name: str):
+    """The class of the world ``name``; a ``KeyError`` for a name not in WORLDS."""
+    module, _, cls = WORLDS[name].partition(":")
+    return getattr(import_module(module), cls)
