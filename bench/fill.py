@@ -74,7 +74,7 @@ def fill(scenario, room, deposit, order, rnd) -> tuple[list, list[str]]:
 def main(argv: list[str]) -> int:
     from sim.scenario import ScenarioError
     from sim.scenario_file import load
-    from tidyplan.exec.geometry import RoomMap
+    from tidyplan.geometry import RoomMap
 
     ap = argparse.ArgumentParser(prog="bench/fill.py", description=__doc__.strip().splitlines()[0])
     ap.add_argument("scenarios", nargs="+", metavar="SCENARIO")
