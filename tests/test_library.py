@@ -79,7 +79,10 @@ def test_run_returns_the_json_summary_typed_and_writes_no_trace_unless_asked(tmp
     }
     assert s.as_dict() == {k: events[-1][k] for k in s.as_dict()}
 
+    # asked for, the trace is written and ends with the same summary (the two runs' plans may
+    # differ: the anytime planner's budget is wall time)
     traced = tidyplan.run("case1", world="symbolic", seed=0, trace=tmp_path / "t.jsonl")
     last = json.loads((tmp_path / "t.jsonl").read_text().splitlines()[-1])
     assert traced.trace == str(tmp_path / "t.jsonl") and last["kind"] == "summary"
-    assert (traced.success, traced.delivered, traced.actions) == (s.success, s.delivered, s.actions)
+    assert traced.as_dict() == {k: last[k] for k in traced.as_dict()}
+    assert (tmp_path / "t.pddl").is_dir()
