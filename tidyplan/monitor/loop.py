@@ -25,25 +25,20 @@ only through the belief, the problem writer and the executor.
 from __future__ import annotations
 
 import os
-import time
 from collections import Counter
 from dataclasses import dataclass
 
-from tidyplan import commitment
 from tidyplan.belief import Belief
 from tidyplan.contract import World
-from tidyplan.errors import PlannerError
 from tidyplan.monitor.counting import Counters
-from tidyplan.monitor.goals import goals
 from tidyplan.monitor.looking import go_and_look, inspect
+from tidyplan.monitor.planning import Planning
 from tidyplan.monitor.triggers import Cause, bind, check_assumptions
 from tidyplan.pddl import model as m
-from tidyplan.pddl.check import check_problem
-from tidyplan.pddl.reader import parse, read_domain, read_text
-from tidyplan.pddl.simulate import Simulator
-from tidyplan.planner import PlanResult, Status, Step
+from tidyplan.pddl.reader import read_domain, read_text
+from tidyplan.planner import Status, Step
 from tidyplan.problem import Snapshot, write
-from tidyplan.strata import STRATEGIES, transition, unproven_below
+from tidyplan.strata import STRATEGIES
 from tidyplan.trace import polyline
 
 LOOKS_BEFORE_GIVING_UP = 3  # as many as the belief needs to forget an item that is not there
@@ -73,7 +68,7 @@ class Outcome:
     counters: Counters
 
 
-class Mission:
+class Mission(Planning):
     """One run of the loop. ``planner(domain, problem, max_stratum) -> PlanResult``."""
 
     def __init__(
@@ -321,83 +316,6 @@ class Mission:
         self.belief.undeliverable.add(item)  # the one record of it: problems and goals read it
         self._went_to_look[item] = LOOKS_BEFORE_GIVING_UP  # nothing to look at it for
         self.trace.emit("give_up", item=item, why=why)
-
-    def _goals(self):
-        facts = self.belief.facts()
-        out = [(label, [g for g in goal if g not in self.belief.undeliverable], virtual)
-               for label, goal, virtual in goals(self.belief, facts)]  # fmt: skip
-        self._facts, self._seen = facts, out[-1][1]
-        return out[:-1] + [("feasible", None, [])]
-
-    def _plan(
-        self, goal, virtual, cause, why, label
-    ) -> tuple[PlanResult, Snapshot | None, m.Problem | None, float]:  # noqa: E501
-        if goal is None:  # the items that have a plan alone
-            goal = [g for g in self._seen if self._alone(g)]
-            if not goal:
-                nothing = PlanResult(Status.NO_PLAN, (), None, None, (), 0.0, "", "nothing feasible")
-                return nothing, None, None, 0.0
-        n = self.count.replans
-        snap = write(
-            self.belief, self.belief.facts(), goal, virtual, f"tidy-replan-{n:03d}", label == "horizon"
-        )
-        problem = self._problem(snap.text, f"replan-{n:03d}.pddl")
-        t0 = time.perf_counter()
-        result = self.planner(self.domain, problem, self.max_stratum)
-        seconds = time.perf_counter() - t0
-        self.count.plan_times.append(seconds)
-        base = f"replan-{n:03d}" + ("" if label == "all" else f"-{label}")
-        paths = {"domain": self._plain, **self.trace.save_replan(base, snap.text, self.domain, problem)}
-        previous = self.stratum
-        p_commit = 0.0
-        if result.status is Status.SOLVED:
-            sim = Simulator(self.domain, problem)
-            committed = commitment.commitment(result.steps, sim, sim.initial_state(problem), problem.goal)
-            p_commit = commitment.probability(committed)
-        self.trace.emit(
-            "plan",
-            replan=n,
-            cause=cause.value,
-            why=why,
-            goal_kind=label,
-            goal=list(goal),
-            status=result.status.value,
-            planning_time_s=round(seconds, 3),
-            stratum=result.stratum,
-            transition=transition(previous, result.stratum) if result.stratum else None,
-            attempts=[[a.stratum, a.outcome.value, round(a.seconds, 3)] for a in result.attempts],
-            unproven_below=unproven_below(result.attempts),
-            cost=result.score.cost if result.score else None,
-            probability=round(result.score.probability, 6) if result.score else None,
-            commitment_probability=round(p_commit, 6) if result.score else None,
-            adopted=result.status is Status.SOLVED and p_commit >= self.config.min_probability,
-            plan=[s.text for s in result.steps],
-            assumptions=sum(s.assumption for s in result.steps),
-            message=result.message,
-            **paths,
-        )
-        return result, snap, problem, p_commit
-
-    def _problem(self, text: str, name: str) -> m.Problem:
-        """Parse and check a problem the writer made; an error here is ours, not the user's."""
-        problem = parse(text, name)
-        errors = [d for d in check_problem(problem, self.domain) if not d.warning]
-        if errors:
-            raise PlannerError(f"tidyplan wrote a bad problem {name}: " + "; ".join(map(str, errors)))
-        return problem
-
-    def _alone(self, item: str) -> bool:
-        snap = write(self.belief, self._facts, [item], [], "tidy-alone")
-        problem = self._problem(snap.text, "alone.pddl")
-        return self.planner(self.domain, problem, self.max_stratum).status is Status.SOLVED
-
-    def _adopt(self, result: PlanResult, snap: Snapshot, problem: m.Problem, goal_kind: str) -> None:
-        self.snapshot, self.steps, self.goal_kind = snap, list(result.steps), goal_kind
-        self.stratum = result.stratum
-        if unproven_below(result.attempts):
-            self.count.segment_unproven = True
-        self.sim = Simulator(self.domain, problem)
-        self.goal = list(snap.goal)  # item names; renamed as virtual objects are bound
 
     # ------------------------------------------------------------------ monitoring
     def _belief_state(self):
