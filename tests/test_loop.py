@@ -403,3 +403,28 @@ def test_the_action_limit_grows_with_the_items_the_robot_knows_of(tmp_path):
     assert cap(_scenario("sixteen", toys)) == 400  # told of 16
     untold = _scenario("unknown", toys[:3], prior=False)
     assert cap(untold, seen=[(x, y) for _, x, y in toys[:14]]) == 350  # seen 14, told nothing
+
+
+def test_a_search_out_of_time_on_every_retry_is_not_reported_as_proven(tmp_path):
+    # The reason a mission ends tells "no plan" proven from a search that ran out of time every
+    # time it was retried (nothing proven): a planner that never finds one in time.
+    from tidyplan.belief import Belief
+    from tidyplan.exec.bindings import MonitoredExecutor
+    from tidyplan.exec.symbolic import SymbolicWorld
+    from tidyplan.geometry import RoomMap
+    from tidyplan.mission import DOMAIN
+    from tidyplan.monitor.loop import Mission
+    from tidyplan.planner import PlanResult, Status
+    from tidyplan.trace import NoTrace
+
+    def never_in_time(domain, problem, max_stratum):
+        return PlanResult(Status.UNKNOWN, (), None, None, (), 0.0, "scripted", "out of time")
+
+    scenario = _scenario("slow", [("t1", 1.8, 1.0)])
+    room = RoomMap(scenario)
+    world, belief = SymbolicWorld(scenario, room, seed=0, rates=EXACT), Belief(scenario, room)
+    trace = NoTrace()
+    mission = Mission(DOMAIN, belief, MonitoredExecutor(world, trace.emit), world, never_in_time, trace)
+    outcome = mission.run()
+    assert not outcome.success
+    assert "not planned in time, unproven" in outcome.reason

@@ -243,11 +243,13 @@ class Mission(Planning):
         self.pending.clear()
         self.bound.clear()
         unlikely: list[float] = []
+        out_of_time = 0  # goals whose search ran out of time on every retry: nothing proven
         for label, goal, virtual in self._goals():
             if not goal:
                 continue
             result, snap, problem, p = self._plan(goal, virtual, cause, why, label)
             if result.status is not Status.SOLVED:
+                out_of_time += result.status is Status.UNKNOWN
                 continue
             if p < self.config.min_probability:  # narrow the goal: a shorter commitment may pass
                 unlikely.append(p)
@@ -284,7 +286,10 @@ class Mission(Planning):
         left = [k.name for k in self._open()] + [v for v, _ in self.belief.virtual()]
         if not self.world.untidied():  # nothing more can be done: the referee's verdict decides
             return f"goal reached; no plan for {' '.join(left)}, which the belief still held"
-        return f"no plan for {' '.join(left)}" if left else "no plan"
+        # "no plan" where the planner proved it; where a search ran out of time on every retry
+        # (tidyplan.mission.plan_with_retries), the reason says so: nothing was proven
+        timed_out = f" ({out_of_time} goals not planned in time, unproven)" if out_of_time else ""
+        return (f"no plan for {' '.join(left)}" if left else "no plan") + timed_out
 
     def _map_now(self) -> Snapshot:
         """The belief's map as it is, for a move the loop makes outside any plan."""
