@@ -76,9 +76,13 @@ def test_ofsm_tidies_all_12_objects(name, tmp_path):
 @pytest.mark.parametrize("name", CASES)
 def test_with_faults_on_nothing_is_lost(name, tmp_path):
     # The issue's fault set: items fall while carried, the camera misses and imagines things.
+    # LAMA's first plan, not the anytime default: with a wall-clock budget the plans, and so the
+    # run, depend on how loaded the machine is (case I once ended "no plan" in a fresh clone
+    # beside another test run; issue 17 makes the budget improvement time)
     rates = parse_faults("grasp_drop=0.2,perception_miss=0.2,perception_false=0.05")
     trace = tmp_path / "t.jsonl"
-    summary = run(PROBLEMS / f"{name}.toml", trace, Settings("ofsm", seed=2, rates=rates, time_budget=0.5))
+    settings = Settings("ofsm", seed=2, rates=rates, planner="lama-first", time_budget=30.0)
+    summary = run(PROBLEMS / f"{name}.toml", trace, settings)
     assert summary["lost_objects"] == 0
     assert summary["success"], summary["reason"]
     events = [json.loads(line) for line in open(trace, encoding="utf-8")]
