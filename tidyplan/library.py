@@ -75,7 +75,8 @@ def run(
     """Run one mission and return its ``Summary``. The options are ``tidyplan run``'s, with the
     same defaults; ``faults`` as ``--faults`` takes them ("grasp_drop=0.2,..."); ``on_event`` is
     called with each trace event as it happens. ``domain``: a domain file in the dialect (by
-    default the shipped ``domains/tidy.pddl``), read and checked before the world starts."""
+    default the shipped ``domains/tidy.pddl``), read and checked before the world starts; that
+    the worlds can run its actions is not checked yet (its actions must be tidy.pddl's)."""
     from sim.scenario import Scenario
     from tidyplan.cli_run import _scenario, parse_faults
     from tidyplan.engines import MISSION_ENGINE, check_name
