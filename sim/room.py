@@ -5,8 +5,10 @@ entrance shut, furniture as solid boxes of the scenario's footprint and height (
 box of that size, WRS bins being 0.33 m deep), each deposit a tray (the WRS tray's size) with a
 rim on the furniture it stands on (a deposit at a bin's rim: the bin itself), and the items:
 small boxes of 0.1 kg that physics can drop, tip and settle, with continuous collision
-detection. Colours follow the item categories (the deposits share their category's colour). The
-robot is placed at the entrance facing the scenario's heading.
+detection. A deposit with a drawer is built with its carcass, in place of that furniture
+piece's box (``sim.drawer``): ``Room.drawers`` holds them, ``Room.opening`` tells where each
+drawer's inside is now. Colours follow the item categories (the deposits share their category's
+colour). The robot is placed at the entrance facing the scenario's heading.
 
 Nothing that physics moves may leave the room (measured, docs/world.md): a tall box knocked out
 of a tray on a 0.4 m table at 2 m/s went over 0.6 m walls, and at 1 m/s tipped over a 0.12 m
@@ -25,8 +27,9 @@ from dataclasses import dataclass, field, replace
 
 import pybullet as p
 
+from sim import drawer
 from sim.robot import HSR
-from sim.scenario import Furniture, Scenario
+from sim.scenario import Furniture, Scenario, drawer_layout
 
 # m: the WRS asks for 0.6 m at least; 1.5 m is above a 0.45 m box standing on the 0.94 m drawer
 # top, a deposit. 0.3 m thick: an item pressed into a wall, its centre up to 12 cm past the face,
@@ -52,6 +55,7 @@ class Room:
     furniture: dict[str, int] = field(default_factory=dict)
     deposits: dict[str, int] = field(default_factory=dict)
     items: dict[str, int] = field(default_factory=dict)
+    drawers: dict[str, drawer.Drawer] = field(default_factory=dict)  # deposit -> its drawer
     walls: list[int] = field(default_factory=list)  # the door leaf among them
     door: int = -1
     floor: int = -1
@@ -66,6 +70,13 @@ class Room:
             out.append(replace(f, **{k: round(v, 4) for k, v in box.items()}))
         return replace(self.scenario, furniture=tuple(out))
 
+    def opening(self, deposit: str) -> tuple[float, float, float, float]:
+        """(x0, x1, y0, y1) of what holds the deposit's objects now: a drawer's inside where the
+        drawer is now, else ``opening``'s."""
+        if deposit in self.drawers:
+            return self.drawers[deposit].interior()
+        return opening(self.scenario, next(d for d in self.scenario.deposits if d.name == deposit))
+
     def colour(self, category: str) -> tuple[float, float, float]:
         return PALETTE[self.scenario.categories().index(category) % len(PALETTE)]
 
@@ -78,13 +89,23 @@ def build(scenario: Scenario, client: int) -> Room:
     robot = HSR(client, x, y, math.radians(scenario.heading_deg))
     room = Room(client, scenario, robot, floor=floor)
     room.walls, room.door = _walls(client, scenario)
+    # a deposit's drawer is built with the carcass it slides out of, in place of that piece's box
+    layouts = {d.name: drawer_layout(scenario.furniture, d) for d in scenario.deposits if d.drawer}
+    carcasses = {layout.carcass.name: (name, layout) for name, layout in layouts.items() if layout}
     for f in scenario.furniture:
         colour = FURNITURE_COLOUR.get(f.kind, (0.7, 0.7, 0.68))
-        if f.kind == BIN:
+        if f.name in carcasses:
+            name, layout = carcasses[f.name]
+            category = next(d.category for d in scenario.deposits if d.name == name)
+            built = drawer.build(client, layout, colour, room.colour(category))
+            room.drawers[name], room.furniture[f.name], room.deposits[name] = built, built.body, built.body
+        elif f.kind == BIN:
             room.furniture[f.name] = _bin(client, f, colour)
         else:
             room.furniture[f.name] = _box(client, (f.cx, f.cy, f.height / 2), (f.sx, f.sy, f.height), colour)
     for d in scenario.deposits:
+        if d.name in room.drawers:
+            continue
         held_by = holder(scenario, d)
         if held_by is not None:
             room.deposits[d.name] = room.furniture[held_by.name]
@@ -144,7 +165,11 @@ def holder(scenario: Scenario, deposit) -> Furniture | None:
 
 
 def opening(scenario: Scenario, deposit) -> tuple[float, float, float, float]:
-    """(x0, x1, y0, y1) of what holds a deposit's objects: a bin's inside, else its tray's."""
+    """(x0, x1, y0, y1) of what holds a deposit's objects: a bin's inside, a drawer's inside as it
+    starts (``Room.opening`` follows the built drawer), else its tray's."""
+    layout = drawer_layout(scenario.furniture, deposit)
+    if layout is not None:
+        return layout.interior(layout.start)
     f = holder(scenario, deposit)
     if f is not None:
         hx, hy = f.sx / 2 - BIN_WALL, f.sy / 2 - BIN_WALL

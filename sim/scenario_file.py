@@ -9,20 +9,18 @@ module raises its own ``ScenarioError``: ``sim`` knows nothing of tidyplan.
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 import re
 import tomllib
-from collections.abc import Callable
 from typing import Any
 
-from sim.grid import Box
 from sim.scenario import (
     FLOOR,
     ITEM_SIZE,
     NAME_RE,
     SCHEMA,
     Deposit,
+    DrawerSpec,
     Expect,
     Furniture,
     Item,
@@ -31,6 +29,21 @@ from sim.scenario import (
     ScenarioError,
     Sensing,
     Viewpoint,
+    drawer_layout,
+    drawer_problems,
+)
+from sim.scenario_checks import (
+    DRAWER_CHECKS,
+    REQUIRED,
+    ROBOT_CHECKS,
+    SENSING_CHECKS,
+    Check,
+    fmt,
+    is_number,
+    key_path,
+    overlap,
+    positive,
+    syntax_message,
 )
 
 
@@ -58,62 +71,11 @@ def loads(text: str, path: str = "<string>") -> Scenario:
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
-        raise ScenarioError([_syntax_message(path, text, str(e))]) from None
+        raise ScenarioError([syntax_message(path, text, str(e))]) from None
     return _Reader(path).scenario(doc)
 
 
-def _syntax_message(path: str, text: str, message: str) -> str:
-    """``path:line:col: what`` from tomllib's "what (at line L, column C)"."""
-    m = re.fullmatch(r"(.*) \(at line (\d+), column (\d+)\)", message, re.S)
-    if m:
-        return f"{path}:{m[2]}:{m[3]}: {m[1]}"
-    m = re.fullmatch(r"(.*) \(at end of document\)", message, re.S)
-    if m:  # point just past the last character
-        line, col = text.count("\n") + 1, len(text) - text.rfind("\n")
-        return f"{path}:{line}:{col}: {m[1]} (at end of document)"
-    return f"{path}: {message}"
-
-
-_REQUIRED: Any = object()
-_Check = Callable[[float], str | None]
-
-
-def _range(lo: float, hi: float = math.inf, *, open_lo: bool = True, what: str = "") -> _Check:
-    """A check that a number lies in (lo, hi] (or [lo, hi] when not ``open_lo``)."""
-    text = what or (
-        f"must be {'>' if open_lo else '>='} {lo:g}"
-        if hi == math.inf
-        else f"must be in {'(' if open_lo else '['}{lo:g}, {hi:g}]"
-    )
-    return lambda v: None if (lo < v if open_lo else lo <= v) and v <= hi else text
-
-
-def _is_number(v: Any) -> bool:
-    """int or float, finite; TOML's true/false are not numbers here."""
-    return not isinstance(v, bool) and isinstance(v, int | float) and math.isfinite(v)
-
-
-def _key(where: str, key: str) -> str:
-    return f"{where}.{key}" if where else key
-
-
-def _fmt(p: tuple[float, ...]) -> str:
-    return "(" + ", ".join(f"{v:g}" for v in p) + ")"
-
-
-_positive, _non_negative = _range(0), _range(0, open_lo=False)
-_probability = _range(0, 1, open_lo=False, what="must be a probability in [0, 1]")
-_ROBOT_CHECKS = {"radius": _positive, "nav_margin": _non_negative, "speed": _positive}
-_SENSING_CHECKS = {
-    "range_min": _non_negative,
-    "range_max": _positive,
-    "fov_h_deg": _range(0, 360),
-    "fov_v_deg": _range(0, 180),
-    "false_negative": _probability,
-    "false_positive": _probability,
-    "camera_height": _positive,
-    "look_down_deg": _range(0, 90),
-}
+_ATOM = re.compile(r"\(\s*([a-z][a-z0-9_-]*)((?:\s+[a-z][a-z0-9_-]*)*)\s*\)")
 _TOP = ("schema", "name", "title", "description", "room", "robot", "sensing")
 _ARRAYS = ("furniture", "deposit", "item", "viewpoint")
 _A = {"furniture": "a furniture piece", "deposit": "a deposit", "item": "an item", "viewpoint": "a viewpoint"}
@@ -138,60 +100,58 @@ class _Reader:
     def keys(self, table: dict[str, Any], where: str, known: tuple[str, ...]) -> None:
         for k in table:
             if k not in known:
-                self.error(_key(where, k), f"unknown key (known: {', '.join(sorted(known))})")
+                self.error(key_path(where, k), f"unknown key (known: {', '.join(sorted(known))})")
 
     def value(self, table: dict[str, Any], where: str, key: str, default: Any) -> tuple[bool, Any]:
         """(True, value) when the key is there; else (False, default), saying so when it is required."""
         if key in table:
             return True, table[key]
-        if default is _REQUIRED:
-            self.error(_key(where, key), "missing required key")
+        if default is REQUIRED:
+            self.error(key_path(where, key), "missing required key")
             return False, None
         return False, default
 
-    def number(
-        self, table: dict, where: str, key: str, default: Any = _REQUIRED, check: _Check | None = None
-    ):
+    def number(self, table: dict, where: str, key: str, default: Any = REQUIRED, check: Check | None = None):
         present, v = self.value(table, where, key, default)
         if not present:
             return v
-        if not _is_number(v):
-            self.error(_key(where, key), f"must be a finite number, got {v!r}")
+        if not is_number(v):
+            self.error(key_path(where, key), f"must be a finite number, got {v!r}")
             return None
         problem = check(v) if check else None
         if problem:
-            self.error(_key(where, key), f"{problem}, got {v:g}")
+            self.error(key_path(where, key), f"{problem}, got {v:g}")
             return None
         return float(v)
 
-    def vector(self, table: dict, where: str, key: str, shape: str, default: Any = _REQUIRED, positive=False):
+    def vector(self, table: dict, where: str, key: str, shape: str, default: Any = REQUIRED, positive=False):
         """A list of numbers; ``shape`` such as "[x, y]" says how many and what they mean."""
         present, v = self.value(table, where, key, default)
         if not present:
             return v
         n = shape.count(",") + 1
-        if not isinstance(v, list) or len(v) != n or not all(_is_number(x) for x in v):
-            self.error(_key(where, key), f"must be a list of {n} numbers {shape}, got {v!r}")
+        if not isinstance(v, list) or len(v) != n or not all(is_number(x) for x in v):
+            self.error(key_path(where, key), f"must be a list of {n} numbers {shape}, got {v!r}")
             return None
         if positive and min(v) <= 0:
-            self.error(_key(where, key), f"sizes must be > 0, got {_fmt(tuple(v))}")
+            self.error(key_path(where, key), f"sizes must be > 0, got {fmt(tuple(v))}")
             return None
         return tuple(float(x) for x in v)
 
-    def string(self, table: dict, where: str, key: str, default: Any = _REQUIRED, name: bool = False):
+    def string(self, table: dict, where: str, key: str, default: Any = REQUIRED, name: bool = False):
         present, v = self.value(table, where, key, default)
         if not present:
             return v
         if not isinstance(v, str):
-            self.error(_key(where, key), f"must be a string, got {v!r}")
+            self.error(key_path(where, key), f"must be a string, got {v!r}")
             return None
         if name and not NAME_RE.fullmatch(v):
-            self.error(_key(where, key), f"{v!r} must match [a-z][a-z0-9_-]* (it becomes a PDDL name)")
+            self.error(key_path(where, key), f"{v!r} must match [a-z][a-z0-9_-]* (it becomes a PDDL name)")
             return None
         return v
 
     def table(self, doc: dict, key: str, required: bool) -> dict | None:
-        present, v = self.value(doc, "", key, _REQUIRED if required else {})
+        present, v = self.value(doc, "", key, REQUIRED if required else {})
         if present and not isinstance(v, dict):
             self.error(key, f"must be a table ([{key}]), got {v!r}")
             return None
@@ -219,9 +179,9 @@ class _Reader:
             return
         x0, x1, y0, y1 = bounds
         if not (x0 <= p[0] <= x1 and y0 <= p[1] <= y1):
-            self.error(where, f"{_fmt(p[:2])} is outside the room bounds {_fmt(bounds)}")
+            self.error(where, f"{fmt(p[:2])} is outside the room bounds {fmt(bounds)}")
 
-    def settings(self, doc: dict, key: str, cls: type, checks: dict[str, _Check]) -> Any:
+    def settings(self, doc: dict, key: str, cls: type, checks: dict[str, Check]) -> Any:
         """A [robot] or [sensing] table: every field optional, defaults from ``cls``."""
         t = self.table(doc, key, required=False)
         if t is None:
@@ -235,8 +195,8 @@ class _Reader:
 
     # ------------------------------------------------------------------ the document
     def scenario(self, doc: dict[str, Any]) -> Scenario:
-        self.keys(doc, "", _TOP + _ARRAYS + ("expect", "prior"))
-        present, schema = self.value(doc, "", "schema", _REQUIRED)
+        self.keys(doc, "", _TOP + _ARRAYS + ("expect", "prior", "facts"))
+        present, schema = self.value(doc, "", "schema", REQUIRED)
         if present and (isinstance(schema, bool) or schema != SCHEMA):
             # another version's keys would only produce noise: this is the one message
             raise ScenarioError(
@@ -252,13 +212,13 @@ class _Reader:
             self.keys(room, "room", ("bounds", "entrance", "heading_deg"))
             bounds = self.vector(room, "room", "bounds", "[x0, x1, y0, y1]")
             if bounds is not None and not (bounds[0] < bounds[1] and bounds[2] < bounds[3]):
-                self.error("room.bounds", f"needs x0 < x1 and y0 < y1, got {_fmt(bounds)}")
+                self.error("room.bounds", f"needs x0 < x1 and y0 < y1, got {fmt(bounds)}")
                 bounds = None
             entrance = self.vector(room, "room", "entrance", "[x, y]")
             self.inside("room.entrance", entrance, bounds)
             heading = self.number(room, "room", "heading_deg", 0.0)
-        robot = self.settings(doc, "robot", Robot, _ROBOT_CHECKS)
-        sensing = self.settings(doc, "sensing", Sensing, _SENSING_CHECKS)
+        robot = self.settings(doc, "robot", Robot, ROBOT_CHECKS)
+        sensing = self.settings(doc, "sensing", Sensing, SENSING_CHECKS)
         if sensing is not None and sensing.range_min >= sensing.range_max:
             self.error(
                 "sensing.range_min", f"must be < range_max ({sensing.range_max:g}), got {sensing.range_min:g}"
@@ -279,13 +239,15 @@ class _Reader:
                 parsed[key].append((label, t, obj if len(self.messages) == before else None))
         furniture = {o.name: o for _, _, o in parsed["furniture"] if o is not None}
         self._cross_check(parsed, furniture)
+        self._drawers(parsed, furniture, robot or Robot())
         expect = self._expect(doc, parsed)
         prior = self._prior(doc, parsed)
+        facts = self._facts(doc)
         if self.messages:
             raise ScenarioError(self.messages)
         head = (name, title, description, bounds, entrance, heading, robot, sensing)
         arrays = (tuple(o for _, _, o in parsed[k]) for k in _ARRAYS)
-        return Scenario(*head, *arrays, expect, self.path, prior)
+        return Scenario(*head, *arrays, expect, self.path, prior, facts)
 
     def _furniture(self, where: str, t: dict, bounds: tuple | None) -> Furniture | None:
         self.keys(t, where, ("name", "center", "size", "height", "kind"))
@@ -295,14 +257,14 @@ class _Reader:
         center = self.vector(t, where, "center", "[x, y]")
         self.inside(f"{where}.center", center, bounds)
         size = self.vector(t, where, "size", "[sx, sy]", positive=True)
-        height = self.number(t, where, "height", check=_positive)
+        height = self.number(t, where, "height", check=positive)
         kind = self.string(t, where, "kind")
         if None in (name, center, size, height, kind):
             return None
         return Furniture(name, center[0], center[1], size[0], size[1], height, kind)
 
     def _deposit(self, where: str, t: dict, bounds: tuple | None) -> Deposit | None:
-        self.keys(t, where, ("name", "category", "position", "approach"))
+        self.keys(t, where, ("name", "category", "position", "approach", "drawer"))
         name = self.string(t, where, "name", name=True)
         category = self.string(t, where, "category", name=True)
         pos = self.vector(t, where, "position", "[x, y, z]")
@@ -311,9 +273,26 @@ class _Reader:
             self.error(f"{where}.position", f"z must be >= 0 (the floor), got {pos[2]:g}")
         approach = self.vector(t, where, "approach", "[x, y]", default=())
         self.inside(f"{where}.approach", approach or None, bounds)
-        if None in (name, category, pos, approach):
+        drawer = self._drawer(f"{where}.drawer", t["drawer"]) if "drawer" in t else ()
+        if drawer and approach == ():
+            self.error(f"{where}.approach", "missing required key (a drawer is pulled open from there)")
+        if None in (name, category, pos, approach, drawer):
             return None
-        return Deposit(name, category, *pos, approach or None)
+        return Deposit(name, category, *pos, approach or None, drawer or None)
+
+    def _drawer(self, where: str, t: Any) -> DrawerSpec | None:
+        """[deposit.drawer]: the drawer a deposit's objects go into; every key optional."""
+        if not isinstance(t, dict):
+            self.error(where, f"must be a table ([deposit.drawer]), got {t!r}")
+            return None
+        self.keys(t, where, ("closed", *DRAWER_CHECKS))
+        before = len(self.messages)
+        closed = t.get("closed", True)
+        if not isinstance(closed, bool):
+            self.error(f"{where}.closed", f"must be true or false, got {closed!r}")
+        default = DrawerSpec()
+        values = {k: self.number(t, where, k, getattr(default, k), c) for k, c in DRAWER_CHECKS.items()}
+        return DrawerSpec(closed, **values) if len(self.messages) == before else None
 
     def _item(self, where: str, t: dict, bounds: tuple | None) -> Item | None:
         self.keys(t, where, ("name", "category", "position", "on", "size"))
@@ -350,11 +329,24 @@ class _Reader:
             where = f"{label}.position"
             if item.on in furniture and furniture[item.on].box().clearance(item.x, item.y) > 0:
                 self.error(
-                    where, f"{_fmt((item.x, item.y))} is outside the footprint of {item.on!r} it stands on"
+                    where, f"{fmt((item.x, item.y))} is outside the footprint of {item.on!r} it stands on"
                 )
             for f in furniture.values() if item.on == FLOOR else ():
-                if _overlap(item.box(), f.box()):
+                if overlap(item.box(), f.box()):
                     self.error(where, f"on the floor but overlaps furniture {f.name!r}")
+
+    def _drawers(self, parsed: dict[str, list], furniture: dict[str, Furniture], robot: Robot) -> None:
+        """A drawer must slide out of a furniture piece, fit it, and open clear of the robot."""
+        for label, _, d in parsed["deposit"]:
+            if d is None or d.drawer is None:
+                continue
+            layout = drawer_layout(furniture.values(), d)
+            if layout is None:
+                closed = f"{d.drawer.travel:g} m back from it towards the approach"
+                self.error(f"{label}.position", f"no furniture piece holds the closed drawer ({closed})")
+                continue
+            for key, what in drawer_problems(layout, d.approach, robot.radius):
+                self.error(f"{label}.{key}", what)
 
     def _expect(self, doc: dict, parsed: dict[str, list]) -> Expect:
         t = self.table(doc, "expect", required=False)
@@ -403,7 +395,18 @@ class _Reader:
                 out.append((cat, n))
         return tuple(sorted(out))
 
-
-def _overlap(a: Box, b: Box) -> bool:
-    """Whether two footprints share area (touching edges do not count)."""
-    return abs(a.cx - b.cx) < (a.sx + b.sx) / 2 and abs(a.cy - b.cy) < (a.sy + b.sy) / 2
+    def _facts(self, doc: dict) -> tuple[tuple[str, ...], ...]:
+        """facts = ["(name arg ...)", ...]: what a domain's own predicates hold at the start (the
+        planner side checks them against the domain; here only their form)."""
+        facts = doc.get("facts", [])
+        if not isinstance(facts, list):
+            self.error("facts", f'must be a list of atoms like "(on-duty drawer)", got {facts!r}')
+            return ()
+        out = []
+        for i, text in enumerate(facts):
+            atom = _ATOM.fullmatch(text.strip().lower()) if isinstance(text, str) else None
+            if atom is None:
+                self.error(f"facts[{i}]", f'must be an atom like "(on-duty drawer)", got {text!r}')
+            else:
+                out.append((atom[1], *atom[2].split()))
+        return tuple(dict.fromkeys(out))

@@ -22,6 +22,7 @@ def dumps(s: Scenario) -> str:
         f"name = {_str(s.name)}",
         f"title = {_str(s.title)}",
         f"description = '''\n{s.description}'''",
+        *([f"facts = [{', '.join(_str('(' + ' '.join(a) + ')') for a in s.facts)}]"] if s.facts else []),
         "",
         "[room]",
         f"bounds = {_list((x0, x1, y0, y1))}",
@@ -43,6 +44,11 @@ def dumps(s: Scenario) -> str:
         lines += ["", "[[deposit]]", f"name = {_str(d.name)}", f"category = {_str(d.category)}"]
         lines += [f"position = {_list((d.x, d.y, d.z))}"]
         lines += [f"approach = {_list(d.approach)}"] if d.approach is not None else []
+        if d.drawer is not None:
+            spec = d.drawer
+            lines += ["", "[deposit.drawer]", f"closed = {str(spec.closed).lower()}"]
+            lines += [f"{k} = {_num(getattr(spec, k))}" for k in ("travel", "width", "rim")]
+            lines += [f"handle_height = {_num(spec.handle_height)}"] if spec.handle_height is not None else []
     for v in s.viewpoints:
         lines += ["", "[[viewpoint]]", f"name = {_str(v.name)}", f"position = {_list((v.x, v.y))}"]
     for i in s.items:

@@ -5,6 +5,7 @@ import pytest
 from sim.grid import Box
 from sim.scenario import (
     Deposit,
+    DrawerSpec,
     Expect,
     Furniture,
     Item,
@@ -13,6 +14,7 @@ from sim.scenario import (
     ScenarioError,
     Sensing,
     Viewpoint,
+    drawer_layout,
 )
 from sim.scenario_file import load, loads
 
@@ -132,7 +134,7 @@ KNOWN_ITEM = "category, name, on, position, size"
     ("old", "new", "message"),
     [
         ('name = "mini"', 'name = "mini"\ncolour = 1', "colour: unknown key (known: deposit, "
-         "description, expect, furniture, item, name, prior, robot, room, schema, sensing, title, "
+         "description, expect, facts, furniture, item, name, prior, robot, room, schema, sensing, title, "
          "viewpoint)"),
         ('on = "table"', 'on = "table"\ncolour = "red"',
          f'item "apple".colour: unknown key (known: {KNOWN_ITEM})'),
@@ -283,3 +285,88 @@ def test_prior_messages():
         "s.toml: prior.total: unknown key (known: count)",
         "s.toml: prior.count: must be a table of category = count, got None",
     ]
+
+
+# A chest of drawers against the west wall (its front face at x = 0.52), its drawer sliding out
+# 0.25 m towards the approach: closed flush with the face, 0.25 m deep.
+DRAWER = (
+    MINIMAL
+    + """\
+
+[[furniture]]
+name = "chest"
+center = [0.3, 1.5]
+size = [0.44, 0.99]
+height = 0.94
+kind = "drawer"
+
+[[deposit]]
+name = "drawer"
+category = "tool"
+position = [0.645, 1.5, 0.3]
+approach = [1.12, 1.5]
+
+[deposit.drawer]
+closed = true
+travel = 0.25
+"""
+)
+
+
+def test_a_drawer_deposit_loads_with_its_defaults_and_its_layout():
+    s = loads(DRAWER, "s.toml")
+    (d,) = s.deposits
+    assert d.drawer == DrawerSpec(closed=True, travel=0.25, width=0.40, rim=0.10, handle_height=None)
+    layout = drawer_layout(s.furniture, d)
+    assert layout.carcass.name == "chest" and (layout.k, layout.sign) == (0, 1.0)
+    assert (layout.front, layout.depth, layout.floor_z) == pytest.approx((0.52, 0.25, 0.3))
+    assert layout.handle(0.0) == pytest.approx((0.5375, 1.5, 0.344))
+    assert layout.interior(0.25) == pytest.approx((0.532, 0.758, 1.3, 1.7))
+    # a deposit without a drawer has none
+    assert loads(FULL).deposits[0].drawer is None
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("travel = 0.25", "travel = -0.1", 'deposit "drawer".drawer.travel: must be > 0, got -0.1'),
+        ("travel = 0.25", "travel = 0.25\nhandle = 3",
+         'deposit "drawer".drawer.handle: unknown key (known: closed, handle_height, rim, travel, width)'),
+        ("closed = true", 'closed = "yes"',
+         "deposit \"drawer\".drawer.closed: must be true or false, got 'yes'"),
+        ("[deposit.drawer]\nclosed = true\ntravel = 0.25\n", "drawer = 3\n",
+         'deposit "drawer".drawer: must be a table ([deposit.drawer]), got 3'),
+        ("approach = [1.12, 1.5]\n", "",
+         'deposit "drawer".approach: missing required key (a drawer is pulled open from there)'),
+        ("center = [0.3, 1.5]", "center = [0.3, 2.5]",
+         'deposit "drawer".position: no furniture piece holds the closed drawer (0.25 m back from it '
+         "towards the approach)"),
+        ("approach = [1.12, 1.5]", "approach = [0.9, 1.5]",
+         "deposit \"drawer\".approach: the open drawer and its handle reach 0.285 m out of 'chest': the "
+         "base (0.22 m) at the approach would touch them"),
+        ("travel = 0.25", "travel = 0.25\nwidth = 1.0",
+         "deposit \"drawer\".drawer.width: the drawer (1 m inside) does not fit across 'chest'"),
+        ("travel = 0.25", "travel = 0.25\nhandle_height = 0.6",
+         "deposit \"drawer\".drawer.handle_height: the handle at 0.6 m is not on the drawer's front"),
+        ("position = [0.645, 1.5, 0.3]", "position = [0.645, 1.5, 0.9]",
+         "deposit \"drawer\".position: z: a drawer floor at 0.9 m leaves it outside 'chest' (0 to 0.94 m)"),
+        ("position = [0.645, 1.5, 0.3]", "position = [0.4, 1.5, 0.3]",
+         "deposit \"drawer\".position: closed, the drawer (0.74 m deep) would not fit in 'chest'"),
+    ],
+)  # fmt: skip
+def test_each_drawer_rule_has_its_message(old, new, message):
+    assert errors(edit(old, new, DRAWER)) == [f"s.toml: {message}"]
+
+
+def test_a_drawer_and_facts_are_written_out_and_read_back_unchanged():
+    from dataclasses import replace
+
+    from sim.scenario_write import dumps
+    from tidyplan.mission import project_file
+
+    s = replace(
+        load(project_file("problems/wrs-drawer.toml")), facts=(("fragile", "tray"), ("shortest-paths",))
+    )
+    back = loads(dumps(s), s.path)
+    assert back.deposits == s.deposits and back.facts == s.facts
+    assert any(d.drawer is not None and d.drawer.closed for d in back.deposits)

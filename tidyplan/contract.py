@@ -80,6 +80,18 @@ class Skills(Protocol):
 
     def grasp_distances(self, height: float) -> tuple[float, float, float]: ...
 
+    def drawer_opening(self, deposit: str) -> float:
+        """How far the deposit's drawer is out (m, 0.0 closed), as the robot sees it."""
+        ...
+
+    def pull_handle(self, deposit: str) -> Outcome:
+        """From the deposit's approach, with the hand empty: grip the drawer's handle, pull it out."""
+        ...
+
+    def push_drawer(self, deposit: str) -> Outcome:
+        """From the deposit's approach, with the hand empty: push its drawer back closed (frees a jam)."""
+        ...
+
 
 @runtime_checkable
 class Referee(Protocol):

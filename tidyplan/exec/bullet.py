@@ -31,6 +31,7 @@ from sim.motion import TOUCH, base_contacts, blocked, contacts, settle
 from sim.robot import RAISED, STOW
 from sim.room import build, inside, opening
 from sim.scenario import Scenario
+from tidyplan.exec.bullet_drawer import Drawers
 from tidyplan.exec.bullet_hand import SETTLE_S, Hand
 from tidyplan.exec.bullet_look import HeadCamera
 from tidyplan.exec.bullet_put import HeldAs
@@ -46,7 +47,7 @@ STEP = 0.05  # m between collision checks along a path (the grid's cell)
 BACK_OFF = 0.10
 
 
-class BulletWorld(Hand, HeadCamera, WorldReferee):
+class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
     """The HSR in pybullet. ``gui`` opens the pybullet window and follows the robot."""
 
     @classmethod

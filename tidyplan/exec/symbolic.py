@@ -10,14 +10,17 @@ Randomness comes from one seeded generator, drawn in a fixed order, so a seed fi
 
 The robot acts through skills the behaviour units call (``tidyplan.exec.units``): ``look``,
 ``locate`` (close range), ``holds`` (the gripper's sensor), ``follow`` (a path, with a state
-monitor polled after every segment), ``grasp``, ``place``, ``put_down``. Faults by rate:
-grasps that close on nothing, placements that fail, false negatives and positives, items that
-fall while carried (``grasp_drop``), transient obstacles (``path_blocked``).
+monitor polled after every segment), ``grasp``, ``place``, ``put_down``, and for a deposit that
+is a drawer ``drawer_opening``, ``pull_handle``, ``push_drawer``. Faults by rate: grasps that
+close on nothing, placements that fail, false negatives and positives, items that fall while
+carried (``grasp_drop``), transient obstacles (``path_blocked``), handles that slip out of the
+hand (``handle_slip``) and drawers that jam part-way (``drawer_jam``).
 
 Durations on the simulated clock (our figures, documented in docs/trace.md): driving at the
 scenario's robot speed (the HSR's 0.8 km/h = 0.22 m/s by default); a careful pose adjustment at
 half that; a look 2 s (a head sweep); a close-range locate 1 s; a grasp 12 s, a placement 10 s,
-a drop 8 s (arm motions of a few seconds each, plus perception, as on the real HSR).
+a drop 8 s (arm motions of a few seconds each, plus perception, as on the real HSR); reading how
+far a drawer is out 1 s; a pull or a push 8 s of arm motions plus the drawer's way at 0.1 m/s.
 """
 
 from __future__ import annotations
@@ -25,10 +28,10 @@ from __future__ import annotations
 import math
 
 from sim.grid import Box
-from sim.scenario import Scenario
+from sim.scenario import DrawerLayout, Scenario, drawer_layout
 from sim.visibility import Box3, visible
 from tidyplan.belief import Detection
-from tidyplan.exec.world import Odometer, Outcome, Rates, TrueItem, WorldReferee
+from tidyplan.exec.world import PULL_SPEED, Odometer, Outcome, Rates, TrueItem, WorldReferee
 from tidyplan.geometry import GRASP_MAX, RoomMap, free_spots
 
 Point = tuple[float, float]
@@ -36,6 +39,7 @@ Point = tuple[float, float]
 LOOK_S, LOCATE_S, TAKE_S, DELIVER_S, DROP_S = 2.0, 1.0, 12.0, 10.0, 8.0
 TAKE_TOLERANCE = 0.15  # m: the gripper closes on an item this close to where it was located
 CLOSE_RANGE = 1.2  # m: what a close-range look (head down, hand camera) sees around the robot
+OPENING_S, HANDLE_S = 1.0, 8.0  # s: a look at a drawer's front; reach its handle, grip, let go, stow
 
 
 class SymbolicWorld(WorldReferee):
@@ -55,6 +59,10 @@ class SymbolicWorld(WorldReferee):
         self.robot: Point = room.entrance
         self.odometer = Odometer(track=[self.robot])
         self._furniture = [Box3.from_furniture(f) for f in scenario.furniture]
+        layouts = {d.name: drawer_layout(scenario.furniture, d) for d in scenario.deposits}
+        self.drawers: dict[str, DrawerLayout] = {n: x for n, x in layouts.items() if x is not None}
+        self.opened = {n: x.start for n, x in self.drawers.items()}  # m each drawer is out
+        self.jammed: dict[str, float] = {}  # where a jammed drawer is stuck
 
     # ------------------------------------------------------------------ sensing
     def look(self) -> list[Detection]:
@@ -151,14 +159,24 @@ class SymbolicWorld(WorldReferee):
             return self._fail("hand_empty", 1.0)
         if math.dist(self.robot, approach) > 0.1:
             return self._fail("not_at_deposit", 1.0)
+        item = self.items[self.holding]
+        drawer = self.drawers.get(deposit)
+        if drawer is not None and not drawer.takes(self.opened[deposit], (item.sx, item.sy)):
+            return self._fail("deposit_closed", OPENING_S)  # the hand never goes out: it stays in it
         if self.rng.random() >= self.rates.deliver:
             return self._fail("place_fail", DELIVER_S)
-        item = self.items[self.holding]
         d = next(d for d in self.scenario.deposits if d.name == deposit)
         k = sum(o.state == "tidied" and o.deposit == deposit for o in self.items.values())
         # side by side in the tray, on a 5 x 5 lattice 4 cm apart: a look into the deposit tells
-        # them apart (25 places: a deposit of the 96-object room receives 24)
-        item.x, item.y = round(d.x + 0.04 * (k % 5 - 2), 3), round(d.y + 0.04 * (k // 5 % 5 - 2), 3)
+        # them apart (25 places: a deposit of the 96-object room receives 24); in a drawer, in
+        # rows across its part out of the carcass, 2 cm apart along the slide
+        if drawer is None:
+            item.x, item.y = round(d.x + 0.04 * (k % 5 - 2), 3), round(d.y + 0.04 * (k // 5 % 5 - 2), 3)
+        else:
+            x0, x1, y0, y1 = drawer.exposed(self.opened[deposit])
+            across, along = 0.04 * (k % 5 - 2), 0.02 * (k // 5 % 3 - 1)
+            dx, dy = (along, across) if drawer.k == 0 else (across, along)
+            item.x, item.y = round((x0 + x1) / 2 + dx, 3), round((y0 + y1) / 2 + dy, 3)
         item.state, item.deposit, self.holding = "tidied", deposit, None
         return self._spend(DELIVER_S)
 
@@ -175,6 +193,59 @@ class SymbolicWorld(WorldReferee):
         item.x, item.y, item.on, item.state, self.holding = spot[0], spot[1], "floor", "placed", None
         out = self._spend(DROP_S)
         return Outcome(True, None, out.seconds, 0.0, spot)
+
+    # ------------------------------------------------------------------ drawers
+    def drawer_opening(self, deposit: str) -> float:
+        """How far the deposit's drawer is out (m; 0.0 closed): a look at its front."""
+        self._spend(OPENING_S)
+        return round(self.opened[deposit], 3)
+
+    def pull_handle(self, deposit: str) -> Outcome:
+        """Grip the drawer's handle from the approach and pull it out by its travel, with the hand
+        empty; the handle slips part-way at the ``handle_slip`` rate (``handle_slip``: it stays
+        where it got), the drawer sticks at 30-70 % of its travel at the ``drawer_jam`` rate
+        (``drawer_jammed``: it goes no farther until pushed back closed)."""
+        layout, opening = self.drawers[deposit], self.opened[deposit]
+        stop, failure, jammed = self._pull_faults(self.jammed.get(deposit), opening, layout.spec.travel)
+        refused = self._refused(deposit)
+        if refused is not None:
+            return refused
+        if jammed is not None:
+            self.jammed[deposit] = jammed
+        self._slide(deposit, stop)
+        seconds = (HANDLE_S if stop > opening or failure else OPENING_S) + (stop - opening) / PULL_SPEED
+        return self._fail(failure, seconds) if failure else self._spend(seconds)
+
+    def push_drawer(self, deposit: str) -> Outcome:
+        """Push the drawer back closed from the approach, with the hand empty: it is free again."""
+        refused = self._refused(deposit)
+        if refused is not None:
+            return refused
+        opening = self.opened[deposit]
+        self.jammed.pop(deposit, None)
+        self._slide(deposit, 0.0)
+        return self._spend((HANDLE_S if opening > 0 else OPENING_S) + opening / PULL_SPEED)
+
+    def _refused(self, deposit: str) -> Outcome | None:
+        """Why the hand cannot go to the drawer's handle: full, or not at the deposit's approach."""
+        if self.holding is not None:
+            return self._fail("hand_full", 1.0)
+        approach = next(d.approach for d in self.scenario.deposits if d.name == deposit)
+        if math.dist(self.robot, approach) > 0.1:
+            return self._fail("not_at_deposit", 1.0)
+        return None
+
+    def _slide(self, deposit: str, to: float) -> None:
+        """The drawer to ``to`` m out, the items in it along with it."""
+        layout = self.drawers[deposit]
+        step = to - self.opened[deposit]
+        for o in self.items.values():
+            if o.state == "tidied" and o.deposit == deposit:
+                if layout.k == 0:
+                    o.x = round(o.x + layout.sign * step, 3)
+                else:
+                    o.y = round(o.y + layout.sign * step, 3)
+        self.opened[deposit] = to
 
     # ------------------------------------------------------------------ helpers
     def _base_z(self, o: TrueItem) -> float:

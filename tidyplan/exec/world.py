@@ -24,13 +24,18 @@ __all__ = ["Odometer", "Outcome", "Rates", "Referee", "Skills", "TrueItem", "Wor
 
 Point = tuple[float, float]
 LOOK_INTO_S = 2.0  # s: the head tilts to the deposit and the detector runs (as a close look)
+# m/s: a drawer pulled or pushed by the hand on its handle, the base backing off or closing in
+# with the arm held (our figure: a little under the base's careful 0.11 m/s, a drawer steadily)
+PULL_SPEED = 0.1
+JAM_SHARE = (0.3, 0.7)  # of its travel: where a drawer that jams sticks
 
 
 @dataclass(frozen=True, slots=True)
 class Rates:
     """Success rates of the manipulation actions and the camera's error rates.
 
-    Defaults: the domain's probabilities (take 0.95, deliver 0.98, drop 0.98) and Goebelbecker's
+    Defaults: the domain's probabilities (take 0.95, deliver 0.98, drop 0.98, a pull of a drawer's
+    handle 0.95) and Goebelbecker's
     false negative 0.2 and false positive 0.05 (the scenario's [sensing] may set its own); no
     drops in transit and no transient obstacles unless asked for (``--faults``)."""
 
@@ -41,6 +46,8 @@ class Rates:
     false_positive: float | None = None
     grasp_drop: float = 0.0  # per carrying motion: the item falls near the robot
     path_blocked: float = 0.0  # per motion: a transient obstacle stops the robot on its way
+    handle_slip: float = 0.05  # per pull: the handle slips out of the hand part-way (open_drawer 0.95)
+    drawer_jam: float = 0.0  # per pull: the drawer sticks part-way until pushed back closed
 
 
 class WorldReferee:
@@ -116,6 +123,25 @@ class WorldReferee:
         carrying = n > 1 and self.holding is not None
         drop_at = int(self.rng.integers(1, n)) if carrying and drop_u < self.rates.grasp_drop else None
         return block_at, drop_at
+
+    def _pull_faults(
+        self, jammed: float | None, opening: float, travel: float
+    ) -> tuple[float, str | None, float | None]:
+        """For a pull of a drawer ``opening`` m out (stuck at ``jammed``, or None): where it stops,
+        why (``handle_slip``, ``drawer_jammed``, None when it comes fully out) and where it is
+        stuck then. A jam (``drawer_jam``) sticks it at 30-70 % of its travel (where it is, if
+        farther out); a slip (``handle_slip``) lets go at a drawn point of the way it can go.
+        Four numbers are drawn every time, so a seed fixes the run whatever happens."""
+        slip_u, jam_u, slip_at, jam_at = (float(u) for u in self.rng.random(4))
+        if opening >= travel - 1e-3:
+            return opening, None, jammed  # out already: nothing to pull
+        if jammed is None and jam_u < self.rates.drawer_jam:
+            lo, hi = JAM_SHARE
+            jammed = max(opening, travel * (lo + (hi - lo) * jam_at))
+        end = travel if jammed is None else jammed
+        if slip_u < self.rates.handle_slip and end - opening > 1e-3:
+            return opening + slip_at * (end - opening), "handle_slip", jammed
+        return end, None if jammed is None else "drawer_jammed", jammed
 
     def _phantom(self) -> list[Detection]:
         """At the false-positive rate, a detection of nothing: a random category somewhere in
