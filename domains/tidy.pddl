@@ -1,9 +1,10 @@
 ;; tidy.pddl: the O-FSM tidy-up domain (Yan et al., ARSO 2021) in the tidyplan dialect.
 ;;
 ;; Mapping to the paper (seeds/000, Sec. IV-B, Table I):
-;;   stratum 1 = P1 = {take_object, move, deliver_it}
+;;   stratum 1 = P1 = {take_object, move, deliver_it, open_drawer}
 ;;               (Eq. 2-3: grasp an object and bring it to a deposit of its category,
-;;               both reachable along known collision-free paths h(x,y)).
+;;               both reachable along known collision-free paths h(x,y); a deposit that is
+;;               a closed drawer, as the WRS rules have the tools' one, is opened first).
 ;;   stratum 2 = P2 = P1 + {possible_ego_pose_adjustment}
 ;;               (Eq. 4 and "additional motions are potentially required to obtain a
 ;;               feasible and collision-free pose": the robot reaches a pose that no
@@ -30,7 +31,14 @@
 ;; (nor joins two waypoints without one): moves then only go where the robot takes,
 ;; delivers, drops or adjusts. Leave it out where the path graph is sparse.
 ;; Dynamic: robot-at, hand-empty, holding, item-at, blocked, tidied, must-move-back,
-;; located.
+;; located, closed.
+;; Execution: each action names the behaviour units that run it (:units, docs/dialect.md);
+;; `tidyplan check` lists the units the worlds offer.
+;; open_drawer is in stratum 1, not 2 or 3: opening a closed drawer is part of delivering
+;; into it (the WRS rulebook's deposit is closed at the start, as a tray is empty), not an extra
+;; motion around an obstacle. In a higher stratum a room whose tools go into a drawer would
+;; need that stratum for every tool, and Table II would count a P1 task as P2 or P3; Occam's
+;; razor ranks plans by the operators the task itself needs, and this one it always needs.
 ;; (removal-waypoint ?o ?w): Algorithm 1 run from where ?o is taken (its grasp waypoint):
 ;; the nearest waypoint already reached that is neither for grasping nor for delivery.
 ;; Partial observability: items seen so far are (located ...); items not yet seen are
@@ -62,6 +70,7 @@
     (removal-waypoint ?o - item ?w - waypoint)   ; Algorithm 1's choice, from where ?o is taken
     (must-move-back)                             ; set by drop_object until move_back
     (located ?o - item)                          ; where ?o lies is known or assumed
+    (closed ?d - deposit)                        ; a drawer not open: nothing goes in
     (unexplored ?w - waypoint)                   ; nobody has looked around from ?w yet
     (shortest-paths))                            ; static: no detour beats a direct open path
 
@@ -85,6 +94,7 @@
   (:action move
     :parameters (?from ?to - waypoint)
     :stratum 1
+    :units ((navigate ?to))
     :precondition (and (robot-at ?from)
                        (path ?from ?to)
                        (not (blocked ?from ?to))
@@ -100,6 +110,7 @@
                              (and (holding ?o) (of-category ?o ?c) (accepts ?d ?c)
                                   (deposit-at ?d ?to)))
                            (exists (?o - item) (and (holding ?o) (removal-waypoint ?o ?to)))
+                           (and (hand-empty) (exists (?d - deposit) (and (closed ?d) (deposit-at ?d ?to))))
                            (exists (?x - waypoint) (pose-adjustment ?to ?x))))
     :effect (and (robot-at ?to)
                  (not (robot-at ?from))
@@ -109,6 +120,7 @@
     :parameters (?o - item ?w - waypoint)
     :stratum 1
     :probability 0.95
+    :units ((adjust_base ?o) (grasp ?o))
     :precondition (and (robot-at ?w) (item-at ?o ?w) (hand-empty))
     :effect (and (holding ?o)
                  (not (item-at ?o ?w))
@@ -122,20 +134,33 @@
     :parameters (?o - item ?d - deposit ?w - waypoint ?c - category)
     :stratum 1
     :probability 0.98
+    :units ((approach_deposit ?w) (place ?o ?d ?w))
     :precondition (and (robot-at ?w)
                        (deposit-at ?d ?w)
                        (holding ?o)
                        (of-category ?o ?c)
-                       (accepts ?d ?c))
+                       (accepts ?d ?c)
+                       (not (closed ?d)))
     :effect (and (tidied ?o)
                  (hand-empty)
                  (not (holding ?o))
+                 (increase (total-cost) 1)))
+
+  ;; A drawer is pulled open by its handle from where items are put into it, the hand free.
+  (:action open_drawer
+    :parameters (?d - deposit ?w - waypoint)
+    :stratum 1
+    :probability 0.95
+    :units ((approach_handle ?w) (pull_handle ?d))
+    :precondition (and (robot-at ?w) (deposit-at ?d ?w) (closed ?d) (hand-empty))
+    :effect (and (not (closed ?d))
                  (increase (total-cost) 1)))
 
   ;; ------------------------------------------------------------- stratum 2 (P2)
   (:action possible_ego_pose_adjustment
     :parameters (?from ?to - waypoint)
     :stratum 2
+    :units ((adjust_pose ?to))
     :precondition (and (robot-at ?from)
                        (pose-adjustment ?from ?to)
                        (not (must-move-back)))
@@ -148,6 +173,7 @@
     :parameters (?o - item ?w - waypoint)
     :stratum 3
     :probability 0.98
+    :units ((put_down ?o))
     :precondition (and (robot-at ?w) (removal-waypoint ?o ?w) (holding ?o))
     :effect (and (item-at ?o ?w)
                  (hand-empty)
@@ -158,6 +184,7 @@
   (:action move_back
     :parameters (?from ?to - waypoint)
     :stratum 3
+    :units ((navigate ?to))
     :precondition (and (robot-at ?from)
                        (must-move-back)
                        (path ?from ?to)

@@ -64,3 +64,61 @@ def test_an_item_that_fell_unseen_is_no_obstacle_where_the_robot_stands():
     robot = next(n for n, k in facts.kind.items() if k == "robot")
     assert (robot, "wp-entrance") in facts.path and (robot, "wp-box") in facts.path
     assert name in facts.grasp and (robot, facts.grasp[name]) in facts.path
+
+
+def _case1_belief():
+    scenario = load(ROOT / "problems" / "case1.toml")
+    return scenario, Belief(scenario, RoomMap(scenario))
+
+
+def test_the_problem_is_the_model_in_what_the_domain_declares():
+    """Built for a domain, the problem has its name and only the predicates and functions it
+    declares; the text saved beside the trace reads back to the same problem."""
+    from tidyplan.mission import DOMAIN
+
+    tidy = DOMAIN.read_text()
+    lean = tidy.replace("    (p-item-near ?w - waypoint) - number)", ")").replace(
+        ":probability (p-item-near ?w)", ":probability 0.5"
+    )
+    lean = lean.replace("(define (domain tidy)", "(define (domain lean)")
+    domain = parse(lean, "lean.pddl")
+    scenario, belief = _case1_belief()
+    snap = write(belief, belief.facts(), [], [("unseen-tool-1", "tool")], "t", domain=domain)
+    assert snap.problem.domain_name == "lean"
+    assert {t.name for t, _ in snap.problem.values} == {"total-cost", "distance"}
+    assert all(domain.predicate(a.predicate) for a in snap.problem.init)
+    assert parse(snap.text, "t.pddl").init == snap.problem.init
+
+
+def test_a_predicate_of_the_domains_own_comes_from_the_scenarios_facts_or_is_false():
+    from tidyplan.mission import DOMAIN
+
+    own = DOMAIN.read_text().replace(
+        "    (shortest-paths))", "    (shortest-paths)\n    (fragile ?d - deposit))"
+    )
+    domain = parse(own, "own.pddl")
+    _, belief = _case1_belief()
+    assert not {
+        a for a in write(belief, belief.facts(), [], [], "t", domain=domain).atoms if a[0] == "fragile"
+    }
+    belief.memory |= {("fragile", "tray"), ("fragile", "no-such-deposit")}
+    atoms = write(belief, belief.facts(), [], [], "t", domain=domain).atoms
+    assert {a for a in atoms if a[0] == "fragile"} == {("fragile", "tray")}  # objects of the problem only
+
+
+def test_a_scenario_fact_the_domain_cannot_hold_is_refused_before_the_world_starts(tmp_path):
+    import pytest
+
+    import tidyplan
+
+    text = (ROOT / "problems" / "case1.toml").read_text()
+    for fact, why in [
+        ("(fragile tray)", "the domain declares no predicate fragile"),
+        ("(closed tray)", "closed is written from the belief, not given"),
+        ("(shortest-paths tray)", "shortest-paths takes 0 arguments, given 1"),
+    ]:
+        path = tmp_path / "facts.toml"
+        path.write_text(f'facts = ["{fact}"]\n' + text)
+        with pytest.raises(tidyplan.InputError) as err:
+            tidyplan.run(path, world="symbolic")
+        assert f"{path}: facts[0] {fact}: {why}" in str(err.value)

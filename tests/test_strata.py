@@ -27,7 +27,8 @@ def test_tidy_domain_has_the_three_operator_sets_of_the_paper():
         if not a.is_assumption:  # assumptions are checked, never executed: not an O-FSM operator
             by_stratum.setdefault(a.stratum, set()).add(a.name)
     assert [a.name for a in domain.actions if a.is_assumption] == ["assume-item-near"]
-    assert by_stratum[1] == {"take_object", "move", "deliver_it"}
+    # P1 is the paper's, and the WRS drawer's opening: part of delivering into a closed drawer
+    assert by_stratum[1] == {"take_object", "move", "deliver_it", "open_drawer"}
     assert by_stratum[2] == {"possible_ego_pose_adjustment"}
     assert by_stratum[3] == {"drop_object", "move_back"}
 

@@ -114,7 +114,13 @@ class Belief:
         self.holding: str | None = None
         self.reached: set[str] = {ENTRANCE}
         self.looked_from: set[str] = set()
-        self.must_move_back = False
+        # Atoms of the domain's predicates no sensor reports (must-move-back, a user's own): the
+        # scenario's facts to start with, then kept by the effects of the actions executed
+        self.memory: set[tuple[str, ...]] = set(scenario.facts)
+        # drawers not open, as the robot was told and then saw (the pull unit's check)
+        self.closed: set[str] = {
+            d.name for d in scenario.deposits if d.drawer is not None and d.drawer.closed
+        }
         # items the error layer gave up (monitor.loop): written without their category, so no
         # plan delivers them again; a plan may still move one aside
         self.undeliverable: set[str] = set()

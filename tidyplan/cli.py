@@ -97,13 +97,32 @@ def _read(domain: str, problem: str | None):
 
 
 def cmd_check(args) -> int:
+    from .exec.binding_check import check_bindings, offered
+
     domain, problem = _read(args.domain, args.problem)
+    found = check_bindings(domain)
+    for d in found:
+        if d.warning:
+            print(d, file=sys.stderr)
+    errors = [d for d in found if not d.warning]
+    if errors:
+        raise InputError(errors)
     strata = ", ".join(f"P{k}" for k in domain.strata)
     n_assumptions = sum(a.is_assumption for a in domain.actions)
+    bound = sum(a.units is not None for a in domain.actions)
     print(
         f"{args.domain}: ok, domain {domain.name}: {len(domain.actions) - n_assumptions} actions, "
-        f"{n_assumptions} assumptions, strata {strata}"
+        f"{n_assumptions} assumptions, strata {strata}, "
+        + (
+            f"{bound} actions bound to behaviour units"
+            if bound
+            else "a planning domain (no :units: not runnable)"
+        )
     )
+    if bound:
+        print("behaviour units the worlds offer (:units):")
+        for spec, worlds in offered():
+            print(f"  {spec.signature:<46} {', '.join(worlds) or 'no world'}: {spec.summary}")
     if problem is not None:
         print(
             f"{args.problem}: ok, problem {problem.name}: {len(problem.objects)} objects, "

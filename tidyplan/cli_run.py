@@ -12,6 +12,7 @@ from pathlib import Path
 
 from tidyplan.errors import Diagnostic, InputError
 from tidyplan.strata import STRATEGIES  # not the loop: `tidyplan check` must not load the planner stack
+from tidyplan.trace_read import delivers
 from tidyplan.worlds import WORLDS
 
 DEFAULT_SCENARIO = "problems/case3.toml"
@@ -29,6 +30,8 @@ FAULTS = {
     "path_blocked": "a transient obstacle stops a motion on its way (per motion; default 0)",
     "perception_miss": "a visible object is not detected (false negative)",
     "perception_false": "a look reports an object that is not there (false positive)",
+    "handle_slip": "the handle slips out of the hand part-way through a pull (open_drawer; default 0.05)",
+    "drawer_jam": "a drawer sticks part-way out until pushed back closed (per pull; default 0)",
 }
 
 
@@ -49,6 +52,12 @@ def add_parsers(sub, positive) -> None:
         help="ofsm: strata P1, P2, P3; greedy: P1 only",
     )
     r.add_argument("--seed", type=int, default=0)
+    r.add_argument(
+        "--domain",
+        metavar="FILE",
+        help="the domain to plan and act with (default: the shipped tidy.pddl); every action must "
+        "name its behaviour units (:units), checked before the world starts",
+    )
     r.add_argument(
         "--planner",
         default=None,
@@ -121,6 +130,8 @@ def parse_faults(text: str):
         false_positive=rates.get("perception_false"),
         grasp_drop=rates.get("grasp_drop", 0.0),
         path_blocked=rates.get("path_blocked", 0.0),
+        handle_slip=rates.get("handle_slip", 0.05),
+        drawer_jam=rates.get("drawer_jam", 0.0),
     )
 
 
@@ -146,40 +157,32 @@ def _trace_path(folder: Path, stem: str) -> Path:
 
 
 def cmd_run(args) -> int:
-    from tidyplan.engines import MISSION_ENGINE
-    from tidyplan.mission import Settings, run  # the planner stack loads only when needed
-
-    planner = args.planner or MISSION_ENGINE
-    if args.gui and args.world != "pybullet":
-        raise InputError("--gui: only the pybullet world has a window (leave out --world symbolic)")
-    from tidyplan.engines import check_name
-    from tidyplan.mission import project_file
+    from tidyplan.library import run
+    from tidyplan.mission import project_file  # the planner stack loads only when needed
 
     scenario = _scenario(args.scenario or project_file(DEFAULT_SCENARIO))
-    check_name(planner)
-    rates = parse_faults(args.faults)
-    if args.max_recovery < 0:
-        raise InputError(f"--max-recovery: {args.max_recovery} is negative")
     trace = (
         Path(args.trace)
         if args.trace
         else _trace_path(Path("runs"), f"{scenario.name}-{args.strategy}-s{args.seed}")
     )
-    if trace.exists() or trace.with_suffix(".pddl").exists():
-        raise InputError(f"{trace}: exists; a trace is never overwritten (choose another --trace)")
-    settings = Settings(
-        args.strategy,
-        args.seed,
-        planner=planner,
+    show = None if args.quiet else _progress(len(scenario.items))
+    summary = run(
+        scenario,
+        world=args.world,
+        seed=args.seed,
+        strategy=args.strategy,
+        planner=args.planner,
+        faults=args.faults,
         time_budget=args.time_budget,
         min_probability=args.min_probability,
-        rates=rates,
         max_recovery=args.max_recovery,
-        world=args.world,
+        domain=args.domain,
+        trace=trace,
         gui=args.gui,
-    )
-    show = None if args.quiet else _progress(len(scenario.items))
-    summary = run(scenario, trace, settings, on_event=show)
+        on_event=show,
+        options="cli",
+    ).as_dict()
     if args.json:
         print(json.dumps(summary))
     else:
@@ -199,7 +202,7 @@ def _progress(total: int):
                 + f", {e['planning_time_s']:.2f} s",
                 file=sys.stderr,
             )
-        elif e["kind"] == "action" and e["ok"] and e["action"].startswith("(deliver_it"):
+        elif e["kind"] == "action" and delivers(e):
             tidied[0] += 1
             print(f"[{e['sim_s']:7.1f} s] tidied {tidied[0]}/{total}: {e['action']}", file=sys.stderr)
         elif e["kind"] == "recovery":

@@ -71,12 +71,15 @@ def run(
     trace: str | Path | None = None,
     gui: bool = False,
     on_event=None,
+    options: str = "keywords",
 ) -> Summary:
     """Run one mission and return its ``Summary``. The options are ``tidyplan run``'s, with the
     same defaults; ``faults`` as ``--faults`` takes them ("grasp_drop=0.2,..."); ``on_event`` is
     called with each trace event as it happens. ``domain``: a domain file in the dialect (by
-    default the shipped ``domains/tidy.pddl``), read and checked before the world starts; that
-    the worlds can run its actions is not checked yet (its actions must be tidy.pddl's)."""
+    default the shipped ``domains/tidy.pddl``), read and checked before the world starts: the
+    dialect, each action bound to units the worlds offer, the words the problems are written in
+    (``tidyplan check DOMAIN`` prints the same). ``options="cli"`` names the options in messages
+    as the command line spells them (``--max-recovery``)."""
     from sim.scenario import Scenario
     from tidyplan.cli_run import _scenario, parse_faults
     from tidyplan.engines import MISSION_ENGINE, check_name
@@ -84,14 +87,17 @@ def run(
     from tidyplan.mission import run as run_mission
     from tidyplan.strata import STRATEGIES
 
+    def name(key: str) -> str:
+        return "--" + key.replace("_", "-") if options == "cli" else key
+
     if world not in WORLDS:
-        raise InputError(f"world: {world!r} is not one of {', '.join(WORLDS)}")
+        raise InputError(f"{name('world')}: {world!r} is not one of {', '.join(WORLDS)}")
     if strategy not in STRATEGIES:
-        raise InputError(f"strategy: {strategy!r} is not one of {', '.join(STRATEGIES)}")
+        raise InputError(f"{name('strategy')}: {strategy!r} is not one of {', '.join(STRATEGIES)}")
     if gui and world != "pybullet":
-        raise InputError("gui: only the pybullet world has a window")
+        raise InputError(f"{name('gui')}: only the pybullet world has a window")
     if max_recovery < 0:
-        raise InputError(f"max_recovery: {max_recovery} is negative")
+        raise InputError(f"{name('max_recovery')}: {max_recovery} is negative")
     if not isinstance(scenario, Scenario):
         shipped = project_file(f"problems/{scenario}.toml") if "/" not in str(scenario) else None
         scenario = _scenario(shipped if shipped is not None and shipped.exists() else scenario)
@@ -99,11 +105,11 @@ def run(
     try:
         check_name(planner)
     except PlannerError as err:
-        raise InputError(f"planner: {err}") from None
+        raise InputError(f"{name('planner')}: {err}") from None
     domain_file = Path(domain) if domain is not None else DOMAIN
-    _check_domain(domain_file)
+    _check_domain(domain_file, scenario)
     if trace is not None and (Path(trace).exists() or Path(trace).with_suffix(".pddl").exists()):
-        raise InputError(f"{trace}: exists; a trace is never overwritten")
+        raise InputError(f"{trace}: exists; a trace is never overwritten (choose another {name('trace')})")
     settings = Settings(
         strategy,
         seed,
@@ -118,9 +124,15 @@ def run(
     return Summary.from_dict(run_mission(scenario, trace, settings, domain_file, on_event=on_event))
 
 
-def _check_domain(path: Path) -> None:
-    """The domain read and checked as ``tidyplan check`` does: a ``PddlError`` (an InputError)
-    with each problem as ``path:line:col: what``."""
+def _check_domain(path: Path, scenario) -> None:
+    """The domain read and checked as ``tidyplan check`` does, and for running: every action
+    bound to catalogue units with arguments of their kind, the problem words declared as the
+    writer fills them, the scenario's facts in the domain's predicates. An InputError with
+    each problem as ``path:line:col: what``."""
+    from tidyplan.exec.binding_check import check_bindings, check_facts
     from tidyplan.pddl.reader import read_domain
 
-    read_domain(path)
+    model = read_domain(path)
+    errors = [d for d in check_bindings(model, for_run=True) if not d.warning] + check_facts(model, scenario)
+    if errors:
+        raise InputError(errors)

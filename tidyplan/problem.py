@@ -1,8 +1,9 @@
 """Belief state to PDDL problem, as ROSPlan's problem interface does: one problem per (re)plan.
 
-The problem is written as text in the dialect for ``domains/tidy.pddl`` and saved beside the
-trace before the planner reads it back, so what was planned on is exactly what a person can
-open, check with ``tidyplan check`` and plan again with ``tidyplan plan``.
+The problem is built as the model (``tidyplan.pddl.model.Problem``) in the words of
+``VOCABULARY``, keeping what the domain declares, and handed to the planner as it is; its text
+(``Snapshot.text``) is saved beside the trace, so what was planned on is what a person can open,
+check with ``tidyplan check`` and plan again with ``tidyplan plan``. Nothing is parsed back.
 
 Facts, from the belief and the map (``tidyplan.geometry``):
 - where the robot is, what it holds, where each untidied seen item is (``item-at`` its grasp
@@ -22,22 +23,60 @@ from dataclasses import dataclass
 
 from tidyplan.belief import Belief
 from tidyplan.geometry import MapFacts, deposit_waypoint
+from tidyplan.pddl import model as m
+from tidyplan.pddl.writer import problem_text
 from tidyplan.removal import Waypoint, removal_waypoint
 
 NOT_FOR_REMOVAL = ("grasp", "deposit", "adjust", "robot")
+COST = "total-cost"
+GOAL = "tidied"  # the worlds' goal: (tidied ?o) for every item to tidy
+
+# The words the writer fills from the belief and the map, with the types of their arguments:
+# a domain that declares one must declare it so (``tidyplan.exec.binding_check``). Any other
+# predicate a domain declares comes from the scenario's facts or is false.
+VOCABULARY_TYPES = ("waypoint", "item", "deposit", "category")
+VOCABULARY: dict[str, tuple[str, ...]] = {
+    "robot-at": ("waypoint",),
+    "hand-empty": (),
+    "holding": ("item",),
+    "item-at": ("item", "waypoint"),
+    "located": ("item",),
+    "of-category": ("item", "category"),
+    "deposit-at": ("deposit", "waypoint"),
+    "accepts": ("deposit", "category"),
+    "closed": ("deposit",),  # a drawer not open (the WRS drawer)
+    "removal-waypoint": ("item", "waypoint"),
+    "unexplored": ("waypoint",),
+    "path": ("waypoint", "waypoint"),
+    "blocked": ("waypoint", "waypoint"),
+    "blocks": ("item", "waypoint", "waypoint"),
+    "pose-adjustment": ("waypoint", "waypoint"),
+    GOAL: ("item",),
+}
+VOCABULARY_FUNCTIONS: dict[str, tuple[str, ...]] = {
+    "distance": ("waypoint", "waypoint"),
+    "p-item-near": ("waypoint",),
+    COST: (),
+}
 
 
 @dataclass(frozen=True, slots=True)
 class Snapshot:
-    """One problem as written: its text, and what the loop needs to read the plan back."""
+    """One problem as the model holds it, and what the loop needs to read the plan back."""
 
-    text: str
+    problem: m.Problem
+    header: tuple[str, ...]  # comments for a person reading the saved file
     facts: MapFacts
     goal: tuple[str, ...]
     virtual: tuple[tuple[str, str], ...]
     robot_waypoint: str
     removal: dict[str, str]  # item -> removal waypoint (Algorithm 1)
-    atoms: frozenset[tuple[str, ...]]  # the init's atoms, as the text states them (no parse back)
+    atoms: frozenset[tuple[str, ...]]  # the init's atoms: the planning state the loop monitors
+
+    @property
+    def text(self) -> str:
+        """The problem in the dialect, as saved beside the trace (``tidyplan plan`` reads it)."""
+        return "\n".join(self.header) + "\n" + problem_text(self.problem)
 
 
 def robot_waypoint(facts: MapFacts, belief: Belief) -> str:
@@ -114,9 +153,13 @@ def write(
     virtual: Sequence[tuple[str, str]],
     name: str,
     focused: bool = False,
+    domain: m.Domain | None = None,
 ) -> Snapshot:
-    """The problem text for the items in ``goal`` (seen names and virtual names); ``focused``:
-    with only the part of the map and the items that goal needs (``focus``)."""
+    """The problem for the items in ``goal`` (seen names and virtual names), built as the model;
+    ``focused``: with only the part of the map and the items that goal needs (``focus``).
+    With a ``domain``, only what it declares is written (its name, its predicates and functions);
+    a predicate it declares beyond the vocabulary comes from ``belief.memory`` (the scenario's
+    facts, kept by the domain's own effects) or is false."""
     keep = None
     if focused:
         facts, keep = focus(facts, belief, goal)
@@ -126,62 +169,66 @@ def write(
     p_near = belief.p_item_near(facts) if virtual else {}
     deposits = belief.scenario.deposits
     categories = sorted({k.category for k in seen} | {c for _, c in virtual} | {d.category for d in deposits})
-    atoms: set[tuple[str, ...]] = set()
-
-    def a(*atom: str) -> str:  # one atom of the init, kept as a tuple too (the loop's state)
-        atoms.add(atom)
-        return "(" + " ".join(atom) + ")"
-
-    init = ["(= (total-cost) 0)", a("robot-at", robot_wp)]
-    init.append(a("holding", belief.holding) if belief.holding else a("hand-empty"))
-    if belief.must_move_back:
-        init.append(a("must-move-back"))
+    atoms: list[tuple[str, ...]] = [("robot-at", robot_wp)]
+    values: list[tuple[str, tuple[str, ...], float]] = []
+    atoms.append(("holding", belief.holding) if belief.holding else ("hand-empty",))
     for k in seen:
         if k.name not in belief.undeliverable:
-            init.append(a("of-category", k.name, k.category))
+            atoms.append(("of-category", k.name, k.category))
         if k.state == "placed" and k.name in facts.grasp:
-            init.append(f"{a('item-at', k.name, facts.grasp[k.name])} {a('located', k.name)}")
+            atoms += [("item-at", k.name, facts.grasp[k.name]), ("located", k.name)]
         elif k.state == "held":
-            init.append(a("located", k.name))
-    for v, cat in virtual:
-        init.append(a("of-category", v, cat))
+            atoms.append(("located", k.name))
+    atoms += [("of-category", v, cat) for v, cat in virtual]
     for d in deposits:
-        init.append(f"{a('deposit-at', d.name, deposit_waypoint(d.name))} {a('accepts', d.name, d.category)}")
-    for item, w in removal.items():
-        init.append(a("removal-waypoint", item, w))
+        atoms += [("deposit-at", d.name, deposit_waypoint(d.name)), ("accepts", d.name, d.category)]
+    atoms += [("closed", d) for d in sorted(belief.closed)]
+    atoms += [("removal-waypoint", item, w) for item, w in removal.items()]
     for w, p in p_near.items():
-        init.append(f"{a('unexplored', w)} (= (p-item-near {w}) {p})")
+        atoms.append(("unexplored", w))
+        values.append(("p-item-near", (w,), p))
     for (u, v), d in sorted(facts.path.items()):
-        init.append(f"{a('path', u, v)} (= (distance {u} {v}) {d:.2f})")
+        atoms.append(("path", u, v))
+        values.append(("distance", (u, v), round(d, 2)))
     for (u, v), d in sorted(facts.blocked.items()):
-        init.append(f"{a('path', u, v)} {a('blocked', u, v)} (= (distance {u} {v}) {d:.2f})")
-    for item, u, v in sorted(facts.blocks):
-        init.append(a("blocks", item, u, v))
+        atoms += [("path", u, v), ("blocked", u, v)]
+        values.append(("distance", (u, v), round(d, 2)))
+    atoms += [("blocks", item, u, v) for item, u, v in sorted(facts.blocks)]
     for (u, v), d in sorted(facts.adjust.items()):
-        init.append(f"{a('pose-adjustment', u, v)} (= (distance {u} {v}) {d:.2f})")
-    items = [k.name for k in seen]
-    lines = [
+        atoms.append(("pose-adjustment", u, v))
+        values.append(("distance", (u, v), round(d, 2)))
+    objects = [(n, "waypoint") for n in sorted(facts.points)] + [(k.name, "item") for k in seen]
+    objects += [(d.name, "deposit") for d in deposits] + [(c, "category") for c in categories]
+    named = {n for n, _ in objects} | {v for v, _ in virtual}
+    if domain is not None:
+        named |= {c.name for c in domain.constants}
+    # the domain's own atoms (the scenario's facts, kept by the actions' effects) about objects
+    # this problem has: a focused problem leaves out waypoints a fact may name
+    atoms += sorted(a for a in belief.memory if a[0] not in VOCABULARY and set(a[1:]) <= named)
+    if domain is not None:
+        atoms = [a for a in atoms if domain.predicate(a[0]) is not None]
+        values = [v for v in values if domain.function(v[0]) is not None]
+    has_costs = domain is None or domain.has_costs
+    problem = m.Problem(
+        name=name,
+        domain_name=domain.name if domain is not None else "tidy",
+        objects=tuple(m.Typed(n, (t,)) for n, t in objects),
+        virtual_objects=tuple(m.Typed(v, ("item",)) for v, _ in virtual),
+        init=tuple(m.Atom(a[0], a[1:]) for a in dict.fromkeys(atoms)),
+        values=((m.FunctionTerm(COST, ()), 0.0),) * has_costs
+        + tuple((m.FunctionTerm(f, args), x) for f, args, x in values),
+        goal=m.And(tuple(m.Atom(GOAL, (g,)) for g in goal)),
+        metric=("minimize", m.FunctionTerm(COST, ())) if has_costs else None,
+    )
+    header = (
         f";; {name}: written from the belief state by tidyplan (scenario {belief.scenario.name}).",
         f";; Robot at {robot_wp} {_xy(belief.robot)}; holding {belief.holding or 'nothing'}.",
         ";; Waypoints (name kind x y):",
         *(f";;   {n} {facts.kind[n]} {_xy(facts.points[n])}" for n in sorted(facts.points)),
         *([f";; Out of reach (no grasp pose): {' '.join(facts.unreachable)}"] if facts.unreachable else []),
-        f"(define (problem {name})",
-        "  (:domain tidy)",
-        "  (:objects",
-        "    " + " ".join(sorted(facts.points)) + " - waypoint",
-        *(["    " + " ".join(items) + " - item"] if items else []),
-        "    " + " ".join(d.name for d in deposits) + " - deposit",
-        "    " + " ".join(categories) + " - category)",
-        *(["  (:virtual-objects " + " ".join(v for v, _ in virtual) + " - item)"] if virtual else []),
-        "  (:init",
-        *("    " + fact for fact in init),
-        "  )",
-        "  (:goal (and " + " ".join(f"(tidied {g})" for g in goal) + "))",
-        "  (:metric minimize (total-cost)))",
-        "",
-    ]
-    return Snapshot("\n".join(lines), facts, tuple(goal), tuple(virtual), robot_wp, removal, frozenset(atoms))
+    )
+    state = frozenset(tuple([a.predicate, *a.args]) for a in problem.init)
+    return Snapshot(problem, header, facts, tuple(goal), tuple(virtual), robot_wp, removal, state)
 
 
 def _dist(a, b) -> float:

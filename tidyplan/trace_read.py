@@ -25,6 +25,7 @@ from pathlib import Path
 from statistics import median
 
 from tidyplan.errors import Diagnostic, InputError
+from tidyplan.exec.catalogue import DELIVERS
 from tidyplan.trace import SCHEMA_VERSION
 
 KINDS = frozenset(
@@ -257,7 +258,7 @@ def _from_events(trace: Trace) -> dict:
     times = [p["planning_time_s"] for p in trace.of("plan") if "planning_time_s" in p]
     objects = sum(start.get("expected", {}).values()) or None
     places = (end or {}).get("items") or {}
-    tidied = [_arg(a, 1) for a in actions if a.get("ok") and a.get("action", "").startswith("(deliver_it")]
+    tidied = [a.get("delivered") or _arg(a, 1) for a in actions if delivers(a)]
     delivered = sum(str(v[0]).startswith("tidied") for v in places.values()) if places else len(tidied)
     checks = trace.of("assumption")
     last = trace.events[-1]
@@ -319,7 +320,7 @@ def _strata(actions: list[dict]) -> dict[str, int]:
     strata, segment = {"P1": 0, "P2": 0, "P3": 0}, 1
     for a in actions:
         segment = max(segment, a.get("stratum") or 1)
-        if a.get("ok") and a.get("action", "").startswith("(deliver_it"):
+        if delivers(a):
             strata[f"P{segment}"] = strata.get(f"P{segment}", 0) + 1
             segment = 1
     return strata
@@ -336,7 +337,19 @@ def _recovery_steps(trace: Trace) -> dict:
     }
 
 
+def delivers(action: dict) -> bool:
+    """An ``action`` event that put its item into a deposit: it ran the delivering unit
+    (``tidyplan.exec.catalogue.DELIVERS``); a trace written before actions named their units
+    is read by tidy.pddl's action name."""
+    if not action.get("ok"):
+        return False
+    if "units" in action:
+        return DELIVERS in action["units"]
+    return action.get("action", "").startswith("(deliver_it")
+
+
 def _arg(event: dict, i: int) -> str:
+    """Argument ``i`` of an action event's step (a trace that does not name the item delivered)."""
     parts = event.get("action", "()").strip("()").split()
     return parts[i] if len(parts) > i else "?"
 

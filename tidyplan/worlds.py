@@ -5,6 +5,9 @@ numpy or pybullet."""
 
 from __future__ import annotations
 
+import os
+import sys
+from contextlib import contextmanager
 from importlib import import_module
 
 WORLDS = {
@@ -17,3 +20,18 @@ def world_class(name: str):
     """The class of the world ``name``; a ``KeyError`` for a name not in WORLDS."""
     module, _, cls = WORLDS[name].partition(":")
     return getattr(import_module(module), cls)
+
+
+@contextmanager
+def quiet_stdout():
+    """Standard output closed at the file descriptor while a world's module loads: pybullet's C
+    library prints its build time there on import, which would break ``tidyplan check``'s output."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 1)
+        yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)

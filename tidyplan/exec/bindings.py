@@ -1,34 +1,37 @@
-"""Symbolic actions of ``domains/tidy.pddl`` as sequences of behaviour units, run with recovery.
+"""Symbolic actions as the behaviour units their domain declares (``:units``), run with recovery.
 
-Each action is its approach phase then its manipulation phase (Yamazaki et al., VII-A), and a
-look from where the robot ends up:
+Each action of a runnable domain names its units, its parameters by name (docs/dialect.md):
 
-    move, move_back              navigate                          + look
-    possible_ego_pose_adjustment navigate (careful)                + look
-    take_object ?o ?w            adjust_base, grasp                + look
-    deliver_it ?o ?d ?w          approach_deposit, place           + look
-    drop_object ?o ?w            put_down                          + look
+    (:action take_object :parameters (?o - item ?w - waypoint)
+      :units ((adjust_base ?o) (grasp ?o)) ...)
 
-The world is injected (the symbolic one now, the pybullet one later). When the error layer
-gives up, the belief learns what the failure showed (a way that is blocked, an item that is not
-where it was believed) and the loop replans: "recovery exhausted". Assumptions never reach
-this module: the loop checks them against observations.
+The executor binds the step's arguments to those names, builds each unit from the catalogue
+(``tidyplan.exec.catalogue``; ``BUILD`` below is its one table of constructors), runs them under
+layered recovery, and looks from where the robot ends up. The domain was checked before the
+mission started (``tidyplan.exec.binding_check``): no binding is found missing mid-mission.
+
+When the error layer gives up, the unit that failed tells the belief what the failure showed
+(a way that is blocked, an item that is not where it was believed: ``Unit.learn``) and the loop
+replans: "recovery exhausted". Assumptions never reach this module: the loop checks them
+against observations.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from tidyplan.belief import Belief
+from tidyplan.errors import PlannerError
+from tidyplan.exec import catalogue as cat
+from tidyplan.exec.drawer_units import PullHandle
 from tidyplan.exec.units import AdjustBase, AlignAtDeposit, Context, Grasp, Look, Navigate, Place, PutDown
 from tidyplan.monitor.recovery import RecoveryConfig, Runner
 from tidyplan.monitor.unit import Unit
+from tidyplan.pddl import model as m
 from tidyplan.planner import Step
 from tidyplan.problem import Snapshot
-
-MOVES = ("move", "move_back")
-BUMP_RADIUS = 0.6  # m around the robot a close look searches after the base was stopped
 
 
 @dataclass(slots=True)
@@ -45,41 +48,47 @@ class Report:
     waypoint: str | None = None
     recoveries: int = 0
     failure_class: str | None = None
+    units: tuple[str, ...] = ()  # the units the action ran (counting reads them)
+    delivered: str | None = None  # the item its place unit put into a deposit
 
 
 class MonitoredExecutor:
-    """Runs each symbolic action as behaviour units under layered recovery (tidyplan.monitor)."""
+    """Runs each symbolic action as its declared behaviour units under layered recovery
+    (tidyplan.monitor). ``bind`` gives it the domain the mission plans with."""
 
-    def __init__(self, world, emit=None, config: RecoveryConfig | None = None) -> None:
+    def __init__(
+        self, world, emit=None, config: RecoveryConfig | None = None, domain: m.Domain | None = None
+    ):
         self.world = world
         self.emit = emit or (lambda kind, **fields: None)
         self.config = config or RecoveryConfig()
+        self.domain = domain
+
+    def bind(self, domain: m.Domain) -> None:
+        self.domain = domain
 
     def execute(self, step: Step, snapshot: Snapshot, belief: Belief, observe) -> Report:
-        ctx = Context(self.world, belief, observe)
-        text = step.text
+        return self.run(step.text, self.units(step, snapshot, Context(self.world, belief, observe)), snapshot)
+
+    def drive(self, to: str, snapshot: Snapshot, belief: Belief, observe) -> Report:
+        """A move the loop makes outside any plan (to look): the navigate unit alone."""
+        ctx = Context(self.world, belief, observe, start=belief.robot)
+        return self.run(
+            f"(move {belief.robot_wp} {to})", [Navigate(ctx, snapshot.facts.points[to], to)], snapshot
+        )
+
+    def run(self, text: str, units: list[Unit], snapshot: Snapshot) -> Report:
+        ctx = units[0].ctx
         clock = self.world.odometer
         t0, d0 = clock.sim_time_s, clock.distance_m
 
         def emit(kind, **fields):
             self.emit(kind, action=text, **fields)
 
-        runner = Runner(self.config, emit)
-        result = runner.run(self.units(step, snapshot, ctx))
-        if result.ok and step.name == "move_back":
-            belief.must_move_back = False  # the domain's effect: back where the item was taken
-        if not result.ok:
-            self._learn(step, snapshot, belief, result.failure.what)
-            if (
-                step.name in MOVES + ("possible_ego_pose_adjustment",)
-                and result.failure.what == "path_blocked"
-            ):
-                # what stopped the base may lie too close for the head camera: look around it
-                found = self.world.locate(belief.robot, BUMP_RADIUS)
-                new = belief.bumped(found) if found is not None else None
-                if new is not None:
-                    ctx.new.append(new)
-        here = _waypoint_at(snapshot, belief)
+        result = Runner(self.config, emit).run(list(units))
+        if not result.ok and result.where is not None:
+            result.where.learn(result.failure)
+        here = _waypoint_at(snapshot, ctx.belief)
         Runner(self.config, emit).run([Look(ctx, here)])
         return Report(
             result.ok,
@@ -91,34 +100,33 @@ class MonitoredExecutor:
             here,
             result.recoveries,
             None if result.ok else result.failure.klass.value,
+            tuple(u.name for u in units),
+            next((u.item for u in units if isinstance(u, Place)), None) if result.ok else None,
         )
 
     def units(self, step: Step, snapshot: Snapshot, ctx: Context) -> list[Unit]:
+        """The units the domain declares for ``step``, its arguments bound by parameter name."""
+        action = self.domain.action(step.name) if self.domain is not None else None
+        if action is None or action.units is None:  # checked before the mission: ours if it happens
+            raise PlannerError(f"{step.text}: the domain binds no units to {step.name!r}")
+        binding = dict(zip((p.name for p in action.parameters), step.args, strict=True))
         points = snapshot.facts.points
-        name, args = step.name, step.args
-        if name in MOVES:
-            return [Navigate(ctx, points[args[1]], args[1])]
-        if name == "possible_ego_pose_adjustment":
-            return [Navigate(ctx, points[args[1]], args[1], careful=True)]
-        if name == "take_object":
-            return [AdjustBase(ctx, args[0]), Grasp(ctx, args[0])]
-        if name == "deliver_it":
-            approach = points[args[2]]
-            return [AlignAtDeposit(ctx, approach, args[2]), Place(ctx, args[0], args[1], approach)]
-        if name == "drop_object":
-            return [PutDown(ctx, args[0])]
-        raise ValueError(f"no binding for action {name!r}")
+        ctx.start = points.get(step.args[0]) if step.args else None
+        return [BUILD[c.unit](ctx, points, *(binding.get(a, a) for a in c.args)) for c in action.units]
 
-    @staticmethod
-    def _learn(step: Step, snapshot: Snapshot, belief: Belief, failure: str) -> None:
-        """What an exhausted recovery tells the planner through the belief."""
-        points = snapshot.facts.points
-        if step.name in MOVES + ("possible_ego_pose_adjustment",) and failure in ("path_blocked", "no_path"):
-            to = points[step.args[1]]
-            belief.blocked_moves.add((points[step.args[0]], to))
-            belief.blocked_moves.add((belief.robot, to))  # from where it stopped, too
-        elif step.name == "take_object" and failure == "not_found":
-            belief.lost(step.args[0])  # nothing there: a false detection, or it rolled away
+
+# One constructor per catalogue unit: (context, waypoint points, arguments) -> unit
+BUILD: dict[str, Callable[..., Unit]] = {
+    cat.NAVIGATE: lambda ctx, pts, to: Navigate(ctx, pts[to], to),
+    cat.ADJUST_POSE: lambda ctx, pts, to: Navigate(ctx, pts[to], to, careful=True),
+    cat.ADJUST_BASE: lambda ctx, pts, item: AdjustBase(ctx, item),
+    cat.GRASP: lambda ctx, pts, item: Grasp(ctx, item),
+    cat.APPROACH_DEPOSIT: lambda ctx, pts, at: AlignAtDeposit(ctx, pts[at], at),
+    cat.PLACE: lambda ctx, pts, item, deposit, at: Place(ctx, item, deposit, pts[at]),
+    cat.PUT_DOWN: lambda ctx, pts, item: PutDown(ctx, item),
+    cat.APPROACH_HANDLE: lambda ctx, pts, at: AlignAtDeposit(ctx, pts[at], at, hand_empty=True),
+    cat.PULL_HANDLE: lambda ctx, pts, deposit: PullHandle(ctx, deposit),
+}
 
 
 def _waypoint_at(snapshot: Snapshot, belief: Belief) -> str | None:

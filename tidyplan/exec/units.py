@@ -22,6 +22,17 @@ from dataclasses import dataclass, field
 from sim.grid import Box
 from tidyplan.belief import Belief
 from tidyplan.contract import Skills
+from tidyplan.exec.catalogue import (
+    ADJUST_BASE,
+    ADJUST_POSE,
+    APPROACH_DEPOSIT,
+    APPROACH_HANDLE,
+    GRASP,
+    LOOK,
+    NAVIGATE,
+    PLACE,
+    PUT_DOWN,
+)
 from tidyplan.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, free_spots
 from tidyplan.monitor.unit import Failure, FailureClass, StateMonitor, Unit
 
@@ -32,6 +43,7 @@ FIND_RADIUS = 0.25  # m around the believed place a close look searches for the 
 FALL_SPREAD = 0.6  # m from where the hand let go that a dropped item is searched for
 ADJUST_PATH_MAX = 1.5  # m: the longest careful base adjustment around an item
 AT_POSE = 0.03  # m: the robot stands at a pose when this close
+BUMP_RADIUS = 0.6  # m around the robot a close look searches after the base was stopped
 
 
 @dataclass(slots=True)
@@ -42,6 +54,7 @@ class Context:
     belief: Belief
     observe: object  # observe(detections, waypoint) -> names of new items (the loop's)
     new: list[str] = field(default_factory=list)
+    start: Point | None = None  # the waypoint the action starts from, where the map has it
 
     def look(self, waypoint: str | None = None) -> None:
         # an item first seen by an earlier look of this action may be forgotten by this one (a
@@ -57,10 +70,12 @@ class Navigate(Unit):
     Carrying, the state monitor watches the hand: an item that slips out stops the robot at once
     (class C), and the pick-up is inserted before the drive goes on."""
 
-    name, phase = "navigate", "approach"
+    name, phase = NAVIGATE, "approach"
 
     def __init__(self, ctx: Context, goal: Point, waypoint: str, careful: bool = False) -> None:
         self.ctx, self.goal, self.waypoint, self.careful = ctx, goal, waypoint, careful
+        if careful:
+            self.name = ADJUST_POSE
         self.path: list[Point] = []
         self.tries = 0
         self.carrying: str | None = None
@@ -106,12 +121,26 @@ class Navigate(Unit):
     def insert_for(self, failure: Failure) -> list[Unit]:
         return _pick_up_if_dropped(self.ctx, self, failure)
 
+    def learn(self, failure: Failure) -> None:
+        """A way the base could not go is blocked for the planner, from where the action started
+        and from where the robot stopped; what stopped it may lie too close for the head camera,
+        so a close look searches around the robot."""
+        if failure.what not in ("path_blocked", "no_path"):
+            return
+        belief = self.ctx.belief
+        belief.blocked_moves |= {(self.ctx.start or belief.robot, self.goal), (belief.robot, self.goal)}
+        if failure.what == "path_blocked":
+            found = self.ctx.world.locate(belief.robot, BUMP_RADIUS)
+            new = belief.bumped(found) if found is not None else None
+            if new is not None:
+                self.ctx.new.append(new)
+
 
 class AdjustBase(Unit):
     """Locate the item close up and bring the base within the arm's reach of it: no motion when
     it already is; another pose around the item when asked to approach differently."""
 
-    name, phase = "adjust_base", "approach"
+    name, phase = ADJUST_BASE, "approach"
 
     def __init__(self, ctx: Context, item: str) -> None:
         self.ctx, self.item = ctx, item
@@ -161,12 +190,16 @@ class AdjustBase(Unit):
     def again_differently(self) -> None:
         self.another = True
 
+    def learn(self, failure: Failure) -> None:
+        if failure.what == "not_found":
+            self.ctx.belief.lost(self.item)  # nothing there: a false detection, or it rolled away
+
 
 class Grasp(Unit):
     """Locate the item relative to the hand, plan the grasp, close the gripper, and verify with
     the gripper's sensor (class B when it closed on nothing: the item is almost unchanged)."""
 
-    name, phase, earlier = "grasp", "manipulation", "adjust_base"
+    name, phase, earlier = GRASP, "manipulation", ADJUST_BASE
 
     def __init__(self, ctx: Context, item: str) -> None:
         self.ctx, self.item = ctx, item
@@ -194,19 +227,28 @@ class Grasp(Unit):
         self.ctx.belief.taken(self.item)
         return None
 
+    def learn(self, failure: Failure) -> None:
+        if failure.what == "not_found":
+            self.ctx.belief.lost(self.item)  # nothing there: a false detection, or it rolled away
+
 
 class AlignAtDeposit(Unit):
     """Stand at the deposit's approach pose with the item in hand: a short careful move if the
-    base is off it."""
+    base is off it. ``hand_empty``: to pull a drawer's handle there, the hand free instead."""
 
-    name, phase = "approach_deposit", "approach"
+    name, phase = APPROACH_DEPOSIT, "approach"
 
-    def __init__(self, ctx: Context, approach: Point, waypoint: str) -> None:
+    def __init__(self, ctx: Context, approach: Point, waypoint: str, hand_empty: bool = False) -> None:
         self.ctx, self.approach, self.waypoint = ctx, approach, waypoint
         self.path: list[Point] = []
         self.carrying: str | None = None
+        self.hand_empty = hand_empty
+        if hand_empty:
+            self.name = APPROACH_HANDLE
 
     def check(self):
+        if self.hand_empty:
+            return Failure(A, "hand_full") if self.ctx.world.holds() else None
         return None if self.ctx.world.holds() else Failure(A, "hand_empty")
 
     def plan(self):
@@ -235,7 +277,7 @@ class Place(Unit):
     """Put the held item into the deposit and verify the hand let go (class B when it did not);
     an item that left the hand but not into the deposit is class C, picked up again first."""
 
-    name, phase, earlier = "place", "manipulation", "approach_deposit"
+    name, phase, earlier = PLACE, "manipulation", APPROACH_DEPOSIT
 
     def __init__(self, ctx: Context, item: str, deposit: str, approach: Point) -> None:
         self.ctx, self.item, self.deposit, self.approach = ctx, item, deposit, approach
@@ -270,7 +312,7 @@ class Place(Unit):
         if failure.what == "place_missed":
             return pick_up(self.ctx, self.item)
         if failure.what == "out_of_reach":
-            return [PutDown(self.ctx, self.item, regrasp=True), *pick_up(self.ctx, self.item)]
+            return [PutDown(self.ctx, self.item), *pick_up(self.ctx, self.item)]
         return []
 
 
@@ -279,11 +321,10 @@ class PutDown(Unit):
     robot has now, towards the walls (out of the way: Algorithm 1's "drop it in a free space
     nearby"); another spot after a failure."""
 
-    name, phase = "put_down", "manipulation"
+    name, phase = PUT_DOWN, "manipulation"
 
-    def __init__(self, ctx: Context, item: str, regrasp: bool = False) -> None:
+    def __init__(self, ctx: Context, item: str) -> None:
         self.ctx, self.item = ctx, item
-        self.regrasp = regrasp  # put down only to take it again: not Algorithm 1's removal
         self.spot: Point | None = None
         self.tried: list[Point] = []
 
@@ -327,15 +368,13 @@ class PutDown(Unit):
             self.tried.append(self.spot)
             return Failure(B, out.failure or "place_fail")
         self.ctx.belief.put(self.item, *self.spot)
-        if not self.regrasp:
-            self.ctx.belief.must_move_back = True
         return None
 
 
 class Look(Unit):
     """observing: a head-camera sweep from where the robot stands."""
 
-    name, phase = "look", "observe"
+    name, phase = LOOK, "observe"
 
     def __init__(self, ctx: Context, waypoint: str | None) -> None:
         self.ctx, self.waypoint = ctx, waypoint

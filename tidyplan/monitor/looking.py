@@ -29,13 +29,13 @@ def move(to: str, purpose: str, belief: Belief, executor, world, snapshot, obser
     reaches), run and traced as an action of its own; returns the executor's report."""
     step = Step("move", (belief.robot_wp, to), False, 1, 1.0, 0.0)
     since = len(world.odometer.track)
-    report = executor.execute(step, snapshot, belief, observe)
-    count.action(step, report, belief.holding is not None, False)
+    report = executor.drive(to, snapshot, belief, observe)
+    count.action(step, report, belief.holding is not None)
     emit("action", action=step.text, stratum=None, ok=report.ok, failure=report.failure,
          failure_class=report.failure_class, recoveries=report.recoveries,
          recovery_exhausted=report.recovery_exhausted, seconds=round(report.seconds, 2),
          metres=round(report.metres, 2), robot=[round(v, 3) for v in belief.robot],
-         path=polyline(world.odometer.track[since:]), purpose=purpose)  # fmt: skip
+         path=polyline(world.odometer.track[since:]), units=list(report.units), purpose=purpose)  # fmt: skip
     return report
 
 

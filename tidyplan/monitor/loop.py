@@ -36,8 +36,9 @@ from tidyplan.monitor.planning import Planning
 from tidyplan.monitor.triggers import Cause, bind, check_assumptions
 from tidyplan.pddl import model as m
 from tidyplan.pddl.reader import read_domain, read_text
+from tidyplan.pddl.static import changed_predicates
 from tidyplan.planner import Status, Step
-from tidyplan.problem import Snapshot, write
+from tidyplan.problem import VOCABULARY, Snapshot, write
 from tidyplan.strata import STRATEGIES
 from tidyplan.trace import polyline
 
@@ -94,6 +95,11 @@ class Mission(Planning):
         self._went_to_look: Counter[str] = Counter()  # item -> drives to look at it before giving up
         self._verified_at: int | None = None  # actions done when the deposits were last looked into
         self._plain = trace.save("domain.pddl", self.domain_text)
+        self.executor.bind(self.domain)
+        # the domain's predicates no sensor reports that its actions change (must-move-back):
+        # the belief keeps them by the effects of the actions executed
+        changed = changed_predicates(self.domain)
+        self._remembered = {p.name for p in self.domain.predicates if p.name in changed} - set(VOCABULARY)
 
     # ------------------------------------------------------------------ the loop
     def run(self) -> Outcome:
@@ -134,8 +140,11 @@ class Mission(Planning):
         # rest of it (this step first) against the belief after the last action.
         step = self.steps.pop(0)
         since = len(self.world.odometer.track)
+        before = self._belief_state() if self._remembered else None
         report = self.executor.execute(step, self.snapshot, self.belief, self._observe)
-        self.count.action(step, report, self.belief.holding is not None, self.belief.must_move_back)
+        if report.ok and before is not None:
+            self._remember(before, step)
+        self.count.action(step, report, self.belief.holding is not None)
         self.trace.emit(
             "action",
             action=step.text,
@@ -149,6 +158,8 @@ class Mission(Planning):
             metres=round(report.metres, 2),
             robot=list(map(_r, self.belief.robot)),
             path=polyline(self.world.odometer.track[since:]),
+            units=list(report.units),
+            delivered=report.delivered,
         )
         return self._monitor(report.new, report, step)
 
@@ -293,7 +304,7 @@ class Mission(Planning):
 
     def _map_now(self) -> Snapshot:
         """The belief's map as it is, for a move the loop makes outside any plan."""
-        return write(self.belief, self.belief.facts(), [], [], "map-now")
+        return write(self.belief, self.belief.facts(), [], [], "map-now", domain=self.domain)
 
     def _go_and_look(self) -> bool:
         """Before giving up on an item no plan reaches, look at it from where it should be seen
@@ -326,13 +337,19 @@ class Mission(Planning):
     def _belief_state(self):
         """The current belief as a planning state, in the names of the plan being executed."""
         virtual = [(v, c) for v, c in self.snapshot.virtual if v not in self.bound]
-        snap = write(self.belief, self.belief.facts(), self.goal, virtual, "belief")
-        facts = set(snap.atoms)  # what the text states, without parsing it back every tick
+        snap = write(self.belief, self.belief.facts(), self.goal, virtual, "belief", domain=self.domain)
+        facts = set(snap.atoms)  # the model's init, as a state: nothing written or parsed
         # Virtual objects the plan bound are seen items now; pending assumptions stand for
         # what the plan took for granted and the belief does not contradict yet.
         for a in self.pending:
             facts = set(self.sim.apply(frozenset(facts), a.name, a.args))
         return frozenset(facts)
+
+    def _remember(self, before, step: Step) -> None:
+        """What the executed ``step`` did to the predicates only the belief keeps: its effects."""
+        after = self.sim.apply(before, step.name, step.args)
+        kept = {a for a in self.belief.memory if a[0] not in self._remembered}
+        self.belief.memory = kept | {a for a in after if a[0] in self._remembered}
 
     def _observe(self, detections, waypoint) -> list[str]:
         update = self.belief.observe(detections, waypoint)

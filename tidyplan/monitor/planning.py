@@ -7,13 +7,13 @@ where a replan's cost and its record are.
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 from tidyplan import commitment
 from tidyplan.errors import PlannerError
 from tidyplan.monitor.goals import goals
 from tidyplan.pddl import model as m
 from tidyplan.pddl.check import check_problem
-from tidyplan.pddl.reader import parse
 from tidyplan.pddl.simulate import Simulator
 from tidyplan.planner import PlanResult, Status
 from tidyplan.problem import Snapshot, write
@@ -41,10 +41,9 @@ class Planning:
                 nothing = PlanResult(Status.NO_PLAN, (), None, None, (), 0.0, "", "nothing feasible")
                 return nothing, None, None, 0.0
         n = self.count.replans
-        snap = write(
-            self.belief, self.belief.facts(), goal, virtual, f"tidy-replan-{n:03d}", label == "horizon"
-        )
-        problem = self._problem(snap.text, f"replan-{n:03d}.pddl")
+        name = f"tidy-replan-{n:03d}"
+        snap = write(self.belief, self.belief.facts(), goal, virtual, name, label == "horizon", self.domain)
+        problem = self._problem(snap, f"replan-{n:03d}.pddl")
         t0 = time.perf_counter()
         result = self.planner(self.domain, problem, self.max_stratum)
         seconds = time.perf_counter() - t0
@@ -81,17 +80,18 @@ class Planning:
         )
         return result, snap, problem, p_commit
 
-    def _problem(self, text: str, name: str) -> m.Problem:
-        """Parse and check a problem the writer made; an error here is ours, not the user's."""
-        problem = parse(text, name)
+    def _problem(self, snap: Snapshot, name: str) -> m.Problem:
+        """Check a problem the writer made, as the model holds it (nothing parsed back); an error
+        here is ours, not the user's: the domain's words were checked before the mission."""
+        problem = replace(snap.problem, path=name)
         errors = [d for d in check_problem(problem, self.domain) if not d.warning]
         if errors:
             raise PlannerError(f"tidyplan wrote a bad problem {name}: " + "; ".join(map(str, errors)))
         return problem
 
     def _alone(self, item: str) -> bool:
-        snap = write(self.belief, self._facts, [item], [], "tidy-alone")
-        problem = self._problem(snap.text, "alone.pddl")
+        snap = write(self.belief, self._facts, [item], [], "tidy-alone", domain=self.domain)
+        problem = self._problem(snap, "alone.pddl")
         return self.planner(self.domain, problem, self.max_stratum).status is Status.SOLVED
 
     def _adopt(self, result: PlanResult, snap: Snapshot, problem: m.Problem, goal_kind: str) -> None:

@@ -41,6 +41,7 @@ class RunResult:
     failure: Failure | None = None
     unit: str | None = None  # the unit whose recovery was exhausted
     recoveries: int = 0
+    where: Unit | None = None  # that unit itself, to learn from its failure
 
     @property
     def exhausted(self) -> bool:
@@ -74,7 +75,7 @@ class Runner:
             attempt = iterations[i]
             if attempt > self.config.max_iterations:
                 self._recovery(unit, failure, "error_layer", attempt, depth, None)
-                return RunResult(False, failure, unit.name, self.recoveries)
+                return RunResult(False, failure, unit.name, self.recoveries, unit)
             self.recoveries += 1
             if failure.klass is FailureClass.C:
                 inserted = unit.insert_for(failure) if depth < self.config.max_depth else []

@@ -90,6 +90,10 @@ class Unit:
         """Units that restore the condition a class (C) failure changed; none by default."""
         return []
 
+    def learn(self, failure: Failure) -> None:
+        """Called when the error layer gave up on this unit: tell the belief what ``failure``
+        showed, for the planner's next problem (a way that is blocked). Nothing by default."""
+
     def again_differently(self) -> None:
         """Called before the unit is re-run as the earlier unit of a failing one: choose
         differently this time (another base pose). Nothing by default."""

@@ -160,11 +160,22 @@ class Function:
 
 
 @dataclass(frozen=True, slots=True)
+class UnitCall:
+    """One behaviour unit an action runs (`:units`): its name and its arguments, each a parameter
+    of the action (a variable) or a constant."""
+
+    unit: str
+    args: tuple[str, ...]
+    pos: Pos = field(default=NOWHERE, compare=False)
+
+
+@dataclass(frozen=True, slots=True)
 class Action:
     """An action, or an assumptive action (Göbelbecker, Definition 1).
 
     `probability` is a number in (0, 1] or a static function of the
-    parameters; `stratum` is the O-FSM operator set the action belongs to.
+    parameters; `stratum` is the O-FSM operator set the action belongs to;
+    `units` the behaviour units that execute it (None: the domain does not say).
     """
 
     name: str
@@ -175,9 +186,11 @@ class Action:
     stratum: int = 1
     is_assumption: bool = False
     pos: Pos = NOWHERE
+    units: tuple[UnitCall, ...] | None = None
     # Where :probability and :stratum were written, for the checker's messages.
     probability_pos: Pos = field(default=NOWHERE, compare=False)
     stratum_pos: Pos = field(default=NOWHERE, compare=False)
+    units_pos: Pos = field(default=NOWHERE, compare=False)
 
 
 @dataclass(frozen=True)

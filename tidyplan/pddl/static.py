@@ -121,6 +121,15 @@ def _effect(e: m.Effect, flags: dict[str, bool]) -> m.Effect:
     return e
 
 
+def changed_predicates(domain: m.Domain) -> set[str]:
+    """The predicates some action (not an assumption) adds or deletes: the rest are static."""
+    out: set[str] = set()
+    for a in domain.actions:
+        if not a.is_assumption:
+            _effect_predicates(a.effect, out)
+    return out
+
+
 def _effect_predicates(e: m.Effect, out: set[str], conditions: bool = False) -> None:
     """The predicates `e` changes; with `conditions`, those its `when` tests too."""
     if isinstance(e, m.Literal):

@@ -158,6 +158,12 @@ class Build(Transformer):
     def stratum(self, c):
         return ("stratum", (c[0], _pos(c[0])))
 
+    def unit_call(self, c):
+        return m.UnitCall(str(c[0]), tuple(str(x) for x in c[1:]), _pos(c[0]))
+
+    def units(self, c):
+        return ("units", tuple(c))
+
     def action(self, c):
         return _action(c, is_assumption=False)
 
@@ -222,6 +228,7 @@ def _action(c, is_assumption: bool) -> m.Action:
     fields = dict(c[1:])
     probability, probability_pos = fields.get("probability", (1.0, m.NOWHERE))
     stratum_token, stratum_pos = fields.get("stratum", (None, m.NOWHERE))
+    units = fields.get("units")
     stratum = 1
     if stratum_token is not None:
         value = float(stratum_token)
@@ -238,4 +245,6 @@ def _action(c, is_assumption: bool) -> m.Action:
         pos=_pos(name),
         probability_pos=probability_pos,
         stratum_pos=stratum_pos,
+        units=units,
+        units_pos=units[0].pos if units else _pos(name),
     )
