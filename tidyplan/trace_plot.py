@@ -27,6 +27,7 @@ from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 
+from tidyplan.exec import catalogue as cat  # noqa: E402
 from tidyplan.trace_read import CAUSES, Trace, adopted, replan_points, summarise, track  # noqa: E402
 
 # tab10: the path and the plan band; no other mark uses these colours (tests look for them)
@@ -40,15 +41,27 @@ CAUSE_STYLE = {  # cause -> (marker, colour)
     "new_object": ("*", "#66a61e"),
 }
 CLASS_COLOURS = {"A": "#e6ab02", "B": "#a6761d", "C": "#e41a1c"}
+# An action is coloured by the manipulation it ends with, the last unit it ran (its `units`,
+# tidyplan.exec.catalogue): a domain of one's own is drawn the same way as tidy.pddl
 ACTION_COLOURS = {
-    "move": "#d0d0d0",
-    "move_back": "#b0b0b0",
-    "possible_ego_pose_adjustment": "#909090",
-    "take_object": "#fdb462",
-    "deliver_it": "#b3de69",
-    "drop_object": "#fb8072",
+    cat.NAVIGATE: "#d0d0d0",
+    cat.ADJUST_POSE: "#909090",
+    cat.GRASP: "#fdb462",
+    cat.PLACE: "#b3de69",
+    cat.PUT_DOWN: "#fb8072",
+    cat.PULL_HANDLE: "#80b1d3",
 }
-UNITS = ("navigate", "adjust_base", "grasp", "approach_deposit", "place", "put_down", "look")
+# the unit rows, in the order a take-and-deliver runs them
+UNITS = (*cat.UNITS, cat.PUSH_DRAWER, cat.LOOK)
+# traces written before actions named their units: tidy.pddl's actions by name
+_OLD_LAST_UNIT = {
+    "move": cat.NAVIGATE,
+    "move_back": cat.NAVIGATE,
+    "possible_ego_pose_adjustment": cat.ADJUST_POSE,
+    "take_object": cat.GRASP,
+    "deliver_it": cat.PLACE,
+    "drop_object": cat.PUT_DOWN,
+}
 
 Warn = Callable[[str], None]
 
@@ -218,10 +231,11 @@ def _timeline(ax, trace: Trace) -> None:
             ax.text(mid, y["plan"], str(p.get("replan")), color="white", fontsize=7, ha="center", va="center")
     for a in trace.of("action"):
         name = a.get("action", "()").strip("()").split()[0]
+        last = a["units"][-1] if a.get("units") else _OLD_LAST_UNIT.get(name)
         span = (a["sim_s"] - a.get("seconds", 0.0), max(a.get("seconds", 0.0), 0.3))
         edge = "#c00000" if not a.get("ok", True) else "white"
         ax.broken_barh(
-            [span], (y["action"] - 0.4, 0.8), facecolor=ACTION_COLOURS.get(name, "#cccccc"), edgecolor=edge
+            [span], (y["action"] - 0.4, 0.8), facecolor=ACTION_COLOURS.get(last, "#cccccc"), edgecolor=edge
         )
     for unit, start, stop, ok in _unit_runs(trace):
         if unit in y:
@@ -254,7 +268,9 @@ def _timeline(ax, trace: Trace) -> None:
         Line2D([], [], marker="x", color=c, mew=2, linestyle="none", label=f"recovery, class {k}")
         for k, c in CLASS_COLOURS.items()
     ]
-    handles += [Rectangle((0, 0), 1, 1, facecolor=c, label=k) for k, c in ACTION_COLOURS.items()]
+    handles += [
+        Rectangle((0, 0), 1, 1, facecolor=c, label=f"action ending in {k}") for k, c in ACTION_COLOURS.items()
+    ]
     ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
 
 
