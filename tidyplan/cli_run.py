@@ -146,8 +146,8 @@ def _scenario(path: str | Path):
 
 
 def _trace_path(folder: Path, stem: str) -> Path:
-    """A fresh file name: runs are never overwritten."""
-    folder.mkdir(parents=True, exist_ok=True)
+    """A fresh file name: runs are never overwritten. The folder is made with the trace (not
+    here: input refused before the mission must leave nothing behind)."""
     base = f"{stem}-{time.strftime('%Y%m%d-%H%M%S')}"
     path, n = folder / f"{base}.jsonl", 1
     while path.exists() or path.with_suffix(".pddl").exists():
