@@ -31,7 +31,7 @@ from tidyplan.monitor.recovery import RecoveryConfig, Runner
 from tidyplan.monitor.unit import Unit
 from tidyplan.pddl import model as m
 from tidyplan.planner import Step
-from tidyplan.problem import Snapshot
+from tidyplan.problem import Snapshot, robot_waypoint
 
 
 @dataclass(slots=True)
@@ -111,7 +111,9 @@ class MonitoredExecutor:
             raise PlannerError(f"{step.text}: the domain binds no units to {step.name!r}")
         binding = dict(zip((p.name for p in action.parameters), step.args, strict=True))
         points = snapshot.facts.points
-        ctx.start = points.get(step.args[0]) if step.args else None
+        # where the planner has the robot when the step starts (its robot-at): a way learnt
+        # blocked is blocked from there
+        ctx.start = points[robot_waypoint(snapshot.facts, ctx.belief)]
         return [BUILD[c.unit](ctx, points, *(binding.get(a, a) for a in c.args)) for c in action.units]
 
 
