@@ -25,8 +25,10 @@ from dataclasses import dataclass, field
 from tidyplan.belief import Belief
 from tidyplan.errors import PlannerError
 from tidyplan.exec import catalogue as cat
+from tidyplan.exec.context import Context
 from tidyplan.exec.drawer_units import PullHandle
-from tidyplan.exec.units import AdjustBase, AlignAtDeposit, Context, Grasp, Look, Navigate, Place, PutDown
+from tidyplan.exec.put_down import PutDown
+from tidyplan.exec.units import AdjustBase, AlignAtDeposit, Grasp, Look, Navigate, Place
 from tidyplan.monitor.recovery import RecoveryConfig, Runner
 from tidyplan.monitor.unit import Unit
 from tidyplan.pddl import model as m

@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 
 from tidyplan.exec.catalogue import PULL_HANDLE, PUSH_DRAWER
-from tidyplan.exec.units import Context
+from tidyplan.exec.context import Context
 from tidyplan.monitor.unit import Failure, FailureClass, StateMonitor, Unit
 
 A, B, C = FailureClass.A, FailureClass.B, FailureClass.C

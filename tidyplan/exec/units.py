@@ -1,4 +1,5 @@
-"""Behaviour units of the tidy domain, against an injected world (symbolic now, pybullet later).
+"""Behaviour units of the tidy domain (``put_down`` in ``tidyplan.exec.put_down``, the drawer's in
+``tidyplan.exec.drawer_units``), against an injected world (symbolic now, pybullet later).
 
 Each unit reads and writes the belief as it goes, because only this layer knows what a grasp
 means physically; the world is reached only through its skills:
@@ -17,11 +18,7 @@ holds), not on the truth: an obstacle nobody has seen is found by driving into i
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
-from sim.grid import Box
-from tidyplan.belief import Belief
-from tidyplan.contract import Skills
 from tidyplan.exec.catalogue import (
     ADJUST_BASE,
     ADJUST_POSE,
@@ -31,38 +28,18 @@ from tidyplan.exec.catalogue import (
     LOOK,
     NAVIGATE,
     PLACE,
-    PUT_DOWN,
 )
-from tidyplan.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, free_spots
+from tidyplan.exec.context import AT_POSE, Context, Point
+from tidyplan.exec.put_down import PutDown
+from tidyplan.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN
 from tidyplan.monitor.unit import Failure, FailureClass, StateMonitor, Unit
 
-Point = tuple[float, float]
 A, B, C = FailureClass.A, FailureClass.B, FailureClass.C
 
 FIND_RADIUS = 0.25  # m around the believed place a close look searches for the target
 FALL_SPREAD = 0.6  # m from where the hand let go that a dropped item is searched for
 ADJUST_PATH_MAX = 1.5  # m: the longest careful base adjustment around an item
-AT_POSE = 0.03  # m: the robot stands at a pose when this close
 BUMP_RADIUS = 0.6  # m around the robot a close look searches after the base was stopped
-
-
-@dataclass(slots=True)
-class Context:
-    """What the units of one action share: the world, the belief, and how to report a look."""
-
-    world: Skills
-    belief: Belief
-    observe: object  # observe(detections, waypoint) -> names of new items (the loop's)
-    new: list[str] = field(default_factory=list)
-    start: Point | None = None  # the waypoint the action starts from, where the map has it
-
-    def look(self, waypoint: str | None = None) -> None:
-        # an item first seen by an earlier look of this action may be forgotten by this one (a
-        # false detection the next looks did not confirm): it is no longer new
-        self.new = [n for n in self.new + self.observe(self.world.look(), waypoint) if n in self.belief.items]
-
-    def floor(self, without: str | None = None):
-        return [p.box() for p in self.belief.placed() if p.on_floor and p.name != without]
 
 
 class Navigate(Unit):
@@ -314,61 +291,6 @@ class Place(Unit):
         if failure.what == "out_of_reach":
             return [PutDown(self.ctx, self.item), *pick_up(self.ctx, self.item)]
         return []
-
-
-class PutDown(Unit):
-    """drop_object: put the held item on free floor next to the robot where it closes no way the
-    robot has now, towards the walls (out of the way: Algorithm 1's "drop it in a free space
-    nearby"); another spot after a failure."""
-
-    name, phase = PUT_DOWN, "manipulation"
-
-    def __init__(self, ctx: Context, item: str) -> None:
-        self.ctx, self.item = ctx, item
-        self.spot: Point | None = None
-        self.tried: list[Point] = []
-
-    def check(self):
-        return None if self.ctx.world.holds() else Failure(A, "hand_empty")
-
-    def plan(self):
-        belief = self.ctx.belief
-        x0, x1, y0, y1 = belief.scenario.bounds
-        centre = ((x0 + x1) / 2, (y0 + y1) / 2)
-        occupied = [p.xy for p in belief.placed()] + self.tried
-        item = belief.items[self.item]
-        # where the arm puts it down upright (a tall box held level by its side, 0.62 m out: at
-        # 0.45 m the level hand was too close, the box let go tilted and toppled), and far enough
-        # out that the item, turned any way, leaves the robot's own cell free: a long box (a
-        # toolbox lying, 0.45 m) put down 0.45 m out shut the robot in beside it
-        reach = self.ctx.world.grasp_distances(item.sz)[1]
-        out = max(reach, belief.room.nav_radius + math.hypot(item.sx, item.sy) / 2 + 0.02)
-        spots = free_spots(belief.scenario, self.ctx.world.pose(), occupied, (out, out))
-        if not spots:
-            return Failure(A, "no_spot", "no free floor next to the robot")
-        # Out of the way: where it leaves every waypoint the robot reaches now reachable (it must
-        # go back, and on), then the farthest from the room's centre, towards the walls.
-        pose = self.ctx.world.pose()
-        grid = belief.room.grid(self.ctx.floor(without=self.item))
-        points = list(belief.facts().points.values())
-        needed = [q for q, n in zip(points, grid.lengths_from(pose, points), strict=True) if n is not None]
-        self.spot = max(
-            spots,
-            key=lambda p: (
-                grid.still_reaches(Box(p[0], p[1], item.sx, item.sy), pose, needed),
-                math.dist(p, centre),
-                p,
-            ),
-        )
-        return None
-
-    def do(self, monitor: StateMonitor):
-        out = self.ctx.world.put_down(self.spot)
-        if not out.ok:
-            self.tried.append(self.spot)
-            return Failure(B, out.failure or "place_fail")
-        self.ctx.belief.put(self.item, *self.spot)
-        return None
 
 
 class Look(Unit):
