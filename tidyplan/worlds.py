@@ -5,6 +5,7 @@ numpy or pybullet."""
 
 from __future__ import annotations
 
+import ctypes
 import os
 import sys
 from contextlib import contextmanager
@@ -23,15 +24,17 @@ def world_class(name: str):
 
 
 @contextmanager
-def quiet_stdout():
-    """Standard output closed at the file descriptor while a world's module loads: pybullet's C
-    library prints its build time there on import, which would break ``tidyplan check``'s output."""
-    sys.stdout.flush()
-    saved = os.dup(1)
+def quiet_import():
+    """Standard error closed at the file descriptor while a world's module loads: pybullet's C
+    library prints its build time there on import, noise in ``tidyplan check``'s report.
+    Exceptions still propagate; only what C code writes is dropped."""
+    sys.stderr.flush()
+    saved = os.dup(2)
     try:
         with open(os.devnull, "w") as null:
-            os.dup2(null.fileno(), 1)
+            os.dup2(null.fileno(), 2)
         yield
     finally:
-        os.dup2(saved, 1)
+        ctypes.CDLL(None).fflush(None)  # what C's stdio buffered goes to the null device too
+        os.dup2(saved, 2)
         os.close(saved)

@@ -133,9 +133,9 @@ def check_facts(domain: m.Domain, scenario) -> list[Diagnostic]:
 
 def offered() -> list[tuple[UnitSpec, list[str]]]:
     """Each catalogue unit with the worlds that have every skill it calls."""
-    from tidyplan.worlds import WORLDS, quiet_stdout, world_class
+    from tidyplan.worlds import WORLDS, quiet_import, world_class
 
-    with quiet_stdout():
+    with quiet_import():
         classes = {name: world_class(name) for name in WORLDS}
     return [
         (spec, [n for n, c in classes.items() if all(hasattr(c, skill) for skill in spec.skills)])
