@@ -255,3 +255,25 @@ def test_a_grasp_that_always_slips_is_recovery_exhausted_cause_iv_then_given_up(
     gave_up = [e for e in events if e["kind"] == "give_up"]
     assert [e["item"] for e in gave_up] == ["toy-1"] or len(gave_up) == 1
     assert world.untidied() == ["t1"]  # the rest tidied
+
+
+def test_an_item_beyond_what_the_robot_was_told_is_cause_v():
+    # told of two toys, the robot sees them both; a third comes into view as it reaches the first:
+    # no virtual object of the plan stands for it, so the plan is made again with it (v)
+    toys = {"t1": (1.8, 1.0), "t2": (1.8, 2.2), "t3": (1.2, 0.6)}
+    outcome, events, world = _mission(toys, hidden={"t3"}, changes={1: lambda w: w.hidden.discard("t3")})
+    assert outcome.success and world.untidied() == []
+    replan = next(e for e in events if e["kind"] == "plan" and e["cause"] != "initial")
+    assert replan["cause"] == "new_object" and replan["why"] == "toy-3"
+
+
+def test_an_item_seen_for_the_first_time_binds_to_the_virtual_object_the_plan_assumed():
+    # told of two toys, the robot sees one: the plan assumes the other; it comes into view on the
+    # first drive and is bound to that virtual object, the plan kept (no replan for it)
+    outcome, events, world = _mission(
+        {"t1": (1.8, 1.0), "t2": (1.6, 2.4)}, hidden={"t2"}, changes={1: lambda w: w.hidden.discard("t2")}
+    )
+    assert outcome.success and world.untidied() == []
+    bound = [e for e in events if e["kind"] == "bind"]
+    assert bound and bound[0]["item"] == "toy-2" and bound[0]["virtual"].startswith("unseen-toy")
+    assert "new_object" not in _causes(events)
