@@ -1,0 +1,31 @@
+"""What the behaviour units of one action share (``tidyplan.exec.units``): the world they act
+in, the belief they read and write, and how a look is reported to the loop."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from tidyplan.belief import Belief
+from tidyplan.contract import Skills
+
+Point = tuple[float, float]
+AT_POSE = 0.03  # m: the robot stands at a pose when this close
+
+
+@dataclass(slots=True)
+class Context:
+    """What the units of one action share: the world, the belief, and how to report a look."""
+
+    world: Skills
+    belief: Belief
+    observe: object  # observe(detections, waypoint) -> names of new items (the loop's)
+    new: list[str] = field(default_factory=list)
+    start: Point | None = None  # the waypoint the action starts from, where the map has it
+
+    def look(self, waypoint: str | None = None) -> None:
+        # an item first seen by an earlier look of this action may be forgotten by this one (a
+        # false detection the next looks did not confirm): it is no longer new
+        self.new = [n for n in self.new + self.observe(self.world.look(), waypoint) if n in self.belief.items]
+
+    def floor(self, without: str | None = None):
+        return [p.box() for p in self.belief.placed() if p.on_floor and p.name != without]
