@@ -22,7 +22,7 @@ from tidyplan.exec.world import PULL_SPEED, Rates
 from tidyplan.geometry import RoomMap
 
 WRS_DRAWER = Path(__file__).resolve().parents[1] / "problems" / "wrs-drawer.toml"
-SURE = Rates(take=1.0, deliver=1.0, drop=1.0, false_negative=0.0, false_positive=0.0)
+SURE = Rates(take=1.0, deliver=1.0, drop=1.0, false_negative=0.0, false_positive=0.0, handle_slip=0.0)
 TRAVEL = 0.25
 
 
@@ -129,7 +129,7 @@ def test_symbolic_handle_slip_leaves_the_drawer_part_way_and_the_next_pull_goes_
 
 
 def test_symbolic_jam_sticks_the_drawer_until_pushed_closed(scenario):
-    w = _symbolic(scenario, Rates(drawer_jam=1.0))
+    w = _symbolic(scenario, Rates(drawer_jam=1.0, handle_slip=0.0))
     out = w.pull_handle("drawer")
     assert not out.ok and out.failure == "drawer_jammed"
     stuck = w.drawer_opening("drawer")
@@ -373,7 +373,7 @@ def test_pybullet_a_handle_out_of_the_arms_reach_is_not_pulled(bullet, scenario)
 
 @pytest.mark.slow
 def test_pybullet_jam_leaves_the_drawer_part_way_until_pushed_closed(bullet, scenario):
-    w = bullet(Rates(drawer_jam=1.0))
+    w = bullet(Rates(drawer_jam=1.0, handle_slip=0.0))
     approach = _approach(scenario)
     w.hsr.set_base(*approach)
     w.robot = approach
