@@ -42,11 +42,25 @@ def test_plan_json_has_the_contract_fields(capsys):
     assert result["probability"] == pytest.approx(probability)
 
 
+def test_not_found_in_time_exits_3_and_says_so(capsys, monkeypatch):
+    from tidyplan import fastdownward
+
+    def out_of_time(sas, searches, first_deadline, improve):
+        return fastdownward.Result(fastdownward.Ending.OUT_OF_TIME, None)
+
+    monkeypatch.setattr(fastdownward, "search", out_of_time)
+    status = main(["plan", TIDY, _problem("tidy-p3"), "--first-plan-limit", "5"])
+    assert status == 3
+    assert "no plan found within 5 s, nothing proven (P1 out-of-time)" in capsys.readouterr().err
+    status, result = _plan_json(capsys, TIDY, _problem("tidy-p3"))
+    assert (status, result["status"]) == (3, "not-found-in-time")
+
+
 @pytest.mark.slow
 def test_no_plan_exits_1_and_says_why(capsys):
     # a budget no machine runs out of: proving P1 and P2 unsolvable must not race the clock
     # (under load the 1 s default ran out in P2, "gave-up", and the test failed)
-    status = main(["plan", TIDY, _problem("tidy-p3"), "--max-stratum", "2", "--time-budget", "30"])
+    status = main(["plan", TIDY, _problem("tidy-p3"), "--max-stratum", "2"])
     captured = capsys.readouterr()
     assert status == 1
     assert "no plan within P1 unsolvable, P2 unsolvable" in captured.err

@@ -105,8 +105,20 @@ def test_a_search_that_gives_up_moves_on_but_says_so():
     assert attempts[0].outcome is Outcome.GAVE_UP
 
 
-def test_a_search_out_of_time_ends_the_call_when_escalation_is_held_back():
-    # the mission's first tries: P2 only once P1 is proven empty, never because P1 was slow
+def test_a_stratum_out_of_time_never_hands_over():
+    # Occam's razor: P2 only once P1 is proven empty, never because P1 was slow
+    domain, prob = read(TIDY, ROOT / "problems" / "tidy-p1.pddl")
+    task = compile_task(domain, prob)
+    for escalate in (True, False):
+        outcomes = iter([Outcome.OUT_OF_TIME, Outcome.SOLVED])
+        result, stratum, attempts = plan_by_strata(
+            task, lambda sub, o=outcomes: (next(o), "p", 0.0), None, escalate
+        )
+        assert (result, stratum) == (None, None)
+        assert [a.outcome for a in attempts] == [Outcome.OUT_OF_TIME]
+
+
+def test_an_incomplete_search_hands_over_only_when_escalation_is_allowed():
     domain, prob = read(TIDY, ROOT / "problems" / "tidy-p1.pddl")
     task = compile_task(domain, prob)
     outcomes = iter([Outcome.GAVE_UP, Outcome.SOLVED])
@@ -125,43 +137,67 @@ def test_table_one_transitions():
     assert transition(None, 1) is None
 
 
-def test_an_incomplete_search_that_finds_nothing_proves_nothing(monkeypatch):
-    """UNSOLVABLE_INCOMPLETELY from an engine is no proof: the result is 'unknown', not 'no plan'."""
-    from types import SimpleNamespace
-
-    from unified_planning.engines import PlanGenerationResultStatus as UpStatus
-
+def _searches_ending(monkeypatch, ending):
+    """Every Fast Downward search of the planner ends so, without a plan."""
+    import tidyplan.fastdownward as fastdownward
     import tidyplan.planner as planner
 
-    def fake(status):
-        return lambda up_task, engine, budget: SimpleNamespace(status=status, plan=None, log_messages=[])
+    calls = []
+
+    def search(sas, searches, first_deadline, improve):
+        calls.append(sas)
+        return fastdownward.Result(ending, None)
+
+    monkeypatch.setattr(planner.fastdownward, "search", search)
+    return calls
+
+
+def test_an_incomplete_search_that_finds_nothing_proves_nothing(monkeypatch):
+    """An incomplete search that ends without a plan is no proof: 'unknown', not 'no plan'."""
+    from tidyplan.fastdownward import Ending
 
     domain, prob = read(TIDY, ROOT / "problems" / "tidy-p1.pddl")
-    monkeypatch.setattr(planner, "run", fake(UpStatus.UNSOLVABLE_INCOMPLETELY))
+    _searches_ending(monkeypatch, Ending.GAVE_UP)
     result = plan(domain, prob)
     assert result.status is Status.UNKNOWN
     assert [a.outcome for a in result.attempts] == [Outcome.GAVE_UP] * 3
-    monkeypatch.setattr(planner, "run", fake(UpStatus.UNSOLVABLE_PROVEN))
+    _searches_ending(monkeypatch, Ending.UNSOLVABLE)
     assert plan(domain, prob).status is Status.NO_PLAN
 
 
-def test_the_mission_retries_a_slow_stratum_before_it_may_hand_over(monkeypatch):
-    """Budgets grow threefold; the first STRICT_TRIES never escalate past a stratum out of time,
-    so a loaded machine follows the same plan as an idle one."""
+def test_no_first_plan_in_time_is_its_own_status_and_stays_in_p1(monkeypatch):
+    from tidyplan.fastdownward import Ending
+
+    domain, prob = read(TIDY, ROOT / "problems" / "tidy-p1.pddl")
+    calls = _searches_ending(monkeypatch, Ending.OUT_OF_TIME)
+    result = plan(domain, prob)
+    assert result.status is Status.TIMEOUT and result.status.value == "not-found-in-time"
+    assert [(a.stratum, a.outcome) for a in result.attempts] == [(1, Outcome.OUT_OF_TIME)]
+    assert len(calls) == 1 and "no plan found within 60 s" in result.message
+
+
+def test_the_mission_hands_over_unproven_only_after_an_incomplete_search(monkeypatch):
+    """The mission's call holds escalation back; only where an incomplete search ended without a
+    plan (nothing proven, nothing more to wait for) is it made again letting P2 plan. Out of time
+    it is not made again: the limit was spent."""
     import tidyplan.mission as mission
 
     calls = []
 
-    def fake(domain, problem, engine, budget, max_stratum, escalate_unproven=True):
-        calls.append((budget, escalate_unproven))
-        status = Status.SOLVED if len(calls) == 3 else Status.UNKNOWN
-        return SimpleNamespace(status=status)
+    def fake(status):
+        def planned(*args, escalate_unproven=True, **kwargs):
+            calls.append(escalate_unproven)
+            return SimpleNamespace(status=status if len(calls) == 1 else Status.SOLVED)
 
-    monkeypatch.setattr(mission, "plan", fake)
-    assert mission.plan_with_retries(None, None, "lama", 1.0, None).status is Status.SOLVED
-    assert calls == [(1.0, False), (3.0, False), (9.0, True)]
-    calls.clear()
-    unknown = SimpleNamespace(status=Status.UNKNOWN)
-    monkeypatch.setattr(mission, "plan", lambda *a, **k: calls.append(a[3]) or unknown)
-    assert mission.plan_with_retries(None, None, "lama", 1.0, None).status is Status.UNKNOWN
-    assert calls == [1.0, 3.0, 9.0, 27.0, 81.0]
+        return planned
+
+    settings = mission.Settings()
+    for status, expected in (
+        (Status.UNKNOWN, [False, True]),
+        (Status.TIMEOUT, [False]),
+        (Status.SOLVED, [False]),
+    ):
+        calls.clear()
+        monkeypatch.setattr(mission, "plan", fake(status))
+        mission.mission_plan(None, None, settings, None)
+        assert calls == expected

@@ -1,8 +1,9 @@
 """The `tidyplan` command: check, plan, compile (here), run and reproduce (cli_run.py), trace
 (cli_trace.py).
 
-Only this module turns errors into exit statuses: 0 success, 1 no plan,
-2 bad input (a file, an option), never a traceback for either.
+Only this module turns errors into exit statuses: 0 success, 1 no plan (proven, or an incomplete
+search ended without one: the message says which), 2 bad input (a file, an option), 3 no plan
+found within the first-plan limit (nothing proven), 4 the planner failed; never a traceback.
 """
 
 from __future__ import annotations
@@ -52,7 +53,14 @@ def _parser() -> argparse.ArgumentParser:
         type=_positive,
         default=None,
         metavar="S",
-        help="wall-clock seconds for the whole planning call (default 1)",
+        help="seconds an anytime planner improves its first plan (default 1)",
+    )
+    pl.add_argument(
+        "--first-plan-limit",
+        type=_positive,
+        default=None,
+        metavar="S",
+        help="seconds to find a first plan, for the whole call (default 60); past it: exit 3",
     )
     pl.add_argument(
         "--max-stratum", type=_stratum, default=None, metavar="K", help="plan with strata 1..K only"
@@ -132,7 +140,7 @@ def cmd_check(args) -> int:
 
 
 def cmd_plan(args) -> int:
-    from .planner import DEFAULT_ENGINE, DEFAULT_TIME_BUDGET, Status, plan
+    from .planner import DEFAULT_ENGINE, DEFAULT_FIRST_PLAN_LIMIT, DEFAULT_TIME_BUDGET, Status, plan
 
     domain, problem = _read(args.domain, args.problem)
     result = plan(
@@ -142,6 +150,7 @@ def cmd_plan(args) -> int:
         time_budget=args.time_budget or DEFAULT_TIME_BUDGET,
         max_stratum=args.max_stratum,
         strata=not args.no_strata,
+        first_plan_limit=args.first_plan_limit or DEFAULT_FIRST_PLAN_LIMIT,
     )
     if args.json:
         print(json.dumps(result.to_json()))
@@ -151,7 +160,7 @@ def cmd_plan(args) -> int:
         return 0
     if not args.json:
         print(f"tidyplan: {result.message}", file=sys.stderr)
-    return 1
+    return {Status.TIMEOUT: 3, Status.ERROR: 4}.get(result.status, 1)
 
 
 def _print_plan(result) -> None:

@@ -71,7 +71,15 @@ def add_parsers(sub, positive) -> None:
         type=positive,
         default=1.0,
         metavar="SECONDS",
-        help="planning time per (re)plan (default 1.0)",
+        help="seconds the anytime planner improves each (re)plan's first plan (default 1.0)",
+    )
+    r.add_argument(
+        "--first-plan-limit",
+        type=positive,
+        default=60.0,
+        metavar="SECONDS",
+        help="seconds to find a first plan, per (re)plan; past it the replan is 'not found in time' "
+        "(default 60)",
     )
     r.add_argument(
         "--min-probability",
@@ -175,6 +183,7 @@ def cmd_run(args) -> int:
         planner=args.planner,
         faults=args.faults,
         time_budget=args.time_budget,
+        first_plan_limit=args.first_plan_limit,
         min_probability=args.min_probability,
         max_recovery=args.max_recovery,
         domain=args.domain,

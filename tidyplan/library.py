@@ -65,6 +65,7 @@ def run(
     planner: str | None = None,
     faults: str = "",
     time_budget: float = 1.0,
+    first_plan_limit: float = 60.0,
     min_probability: float = 1e-4,
     max_recovery: int = 3,
     domain: str | Path | None = None,
@@ -96,6 +97,9 @@ def run(
         raise InputError(f"{name('strategy')}: {strategy!r} is not one of {', '.join(STRATEGIES)}")
     if gui and world != "pybullet":
         raise InputError(f"{name('gui')}: only the pybullet world has a window")
+    for key, value in (("time_budget", time_budget), ("first_plan_limit", first_plan_limit)):
+        if not value > 0:
+            raise InputError(f"{name(key)}: {value} is not a positive number of seconds")
     if max_recovery < 0:
         raise InputError(f"{name('max_recovery')}: {max_recovery} is negative")
     if not isinstance(scenario, Scenario):
@@ -115,6 +119,7 @@ def run(
         seed,
         planner=planner,
         time_budget=time_budget,
+        first_plan_limit=first_plan_limit,
         min_probability=min_probability,
         rates=parse_faults(faults),
         max_recovery=max_recovery,

@@ -20,17 +20,12 @@ from tidyplan.engines import MISSION_ENGINE
 from tidyplan.exec.bindings import MonitoredExecutor
 from tidyplan.exec.world import Rates
 from tidyplan.geometry import RoomMap
+from tidyplan.grounding import Grounder
 from tidyplan.monitor.loop import LoopConfig, Mission
 from tidyplan.monitor.recovery import RecoveryConfig
-from tidyplan.planner import PlanResult, Status, plan
+from tidyplan.planner import DEFAULT_FIRST_PLAN_LIMIT, PlanResult, Status, plan
 from tidyplan.trace import NoTrace, TraceWriter
 from tidyplan.worlds import WORLDS, world_class
-
-RETRIES = 5  # budgets 1x, 3x, 9x, 27x, 81x: a search that ran out of time is tried again, longer
-# Tries before a stratum that ran out of time may hand over to the next one unproven: until
-# then a P2 plan is used only when P1 is proven to have none (under load, or at scale, a P1
-# search that is merely slow must not change the plan the robot follows).
-STRICT_TRIES = 2
 
 
 def project_file(relative: str) -> Path:
@@ -55,7 +50,8 @@ class Settings:
     strategy: str = "ofsm"
     seed: int = 0
     planner: str = MISSION_ENGINE
-    time_budget: float = 1.0
+    time_budget: float = 1.0  # seconds LAMA improves each first plan
+    first_plan_limit: float = DEFAULT_FIRST_PLAN_LIMIT  # seconds to find it
     min_probability: float = 1e-4
     rates: Rates = Rates()
     max_recovery: int = 3  # recovery iterations per failing unit before the planner reworks the task
@@ -94,8 +90,10 @@ def make_world(scenario: Scenario, room: RoomMap, settings: Settings) -> World:
 def _run(scenario, room, world, trace_path, settings, domain, on_event, started) -> dict:
     belief = Belief(scenario, room)  # told the static room and the prior, never the items
 
+    grounder = Grounder()  # the map's ground operators, kept from one replan to the next
+
     def planner(d, p, max_stratum):
-        return plan_with_retries(d, p, settings.planner, settings.time_budget, max_stratum)
+        return mission_plan(d, p, settings, max_stratum, grounder)
 
     clock = lambda: world.odometer.sim_time_s  # noqa: E731
     with TraceWriter(trace_path, clock) if trace_path is not None else NoTrace(clock) as trace:
@@ -110,17 +108,17 @@ def _run(scenario, room, world, trace_path, settings, domain, on_event, started)
     return summary
 
 
-def plan_with_retries(domain, problem, engine: str, time_budget: float, max_stratum) -> PlanResult:
-    """The mission's planner call. A search that ran out of time proves nothing: it is tried
-    again with three times the budget before the loop takes "no plan" for an answer (narrowing
-    the goal, or giving up); in the first STRICT_TRIES a stratum out of time ends the try."""
-    budget = time_budget
-    for attempt in range(RETRIES):
-        escalate = attempt >= STRICT_TRIES
-        result = plan(domain, problem, engine, budget, max_stratum, escalate_unproven=escalate)
-        if result.status is not Status.UNKNOWN:
-            break
-        budget *= 3
+def mission_plan(domain, problem, settings: Settings, max_stratum, grounder=None) -> PlanResult:
+    """The mission's planner call. A stratum out of time ends it ("not found in time"): a P2
+    plan is used only when P1 has none, never because P1 was slow (under load, or at scale).
+    Where an incomplete search ended without a plan (nothing proven), the call is made again
+    letting the next stratum plan; the trace marks such a plan (`unproven_below`) and Table II's
+    count keeps it apart."""
+    args = (domain, problem, settings.planner, settings.time_budget, max_stratum)
+    kwargs = dict(first_plan_limit=settings.first_plan_limit, grounder=grounder)
+    result = plan(*args, escalate_unproven=False, **kwargs)
+    if result.status is Status.UNKNOWN:
+        result = plan(*args, **kwargs)
     return result
 
 

@@ -1,9 +1,17 @@
-"""Planning engines, time budgets and plan results.
+"""Planning engines, time limits and plan results.
 
-`plan()` takes a dialect task, compiles it (`pddl.compile`), converts it to
-unified-planning (`pddl.to_up`) and asks an engine by name, stratum by stratum
-(`strata`). Results come back in the file's own names, with each step's
-probability, cost and stratum and the plan's Göbelbecker criterion.
+`plan()` takes a dialect task, compiles it (`pddl.compile`) and asks an engine by name, stratum
+by stratum (`strata`). For our presets the compiled task is grounded from the model
+(`tidyplan.grounding`; Fast Downward's translator where the task is outside its fragment) and
+searched by Fast Downward's search binary (`tidyplan.fastdownward`); any other engine gets it
+through unified-planning (`pddl.to_up`). Results come back in the file's own names, with each
+step's probability, cost and stratum and the plan's Göbelbecker criterion.
+
+Time has two limits. The first plan is sought for at most `first_plan_limit` seconds (the
+whole call, every stratum tried); an anytime engine then improves it for `time_budget` seconds.
+A call that finds no first plan within the limit ends "not found in time" (Status.TIMEOUT),
+never "no plan", and never hands over to a higher stratum: Occam's razor asks for a plan of
+the lowest stratum that has one, and a timeout does not say that P_K has none.
 
 Engines and how they are run are in `tidyplan.engines`.
 """
@@ -11,27 +19,27 @@ Engines and how they are run are in `tidyplan.engines`.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from enum import Enum
 
-from unified_planning.engines import PlanGenerationResultStatus as UpStatus
-
+from . import fastdownward, grounding
 from .criterion import Score, score
-from .engines import AXIOM_FALLBACK, DEFAULT_ENGINE, ENGINES, Engine, run
+from .engines import DEFAULT_ENGINE, ENGINES, Engine, run
+from .errors import PlannerError
 from .pddl import model as m
 from .pddl.compile import CompiledTask, compile_task
-from .pddl.to_up import to_up
+from .pddl.writer import domain_text, problem_text
 from .strata import Attempt, Outcome, plan_by_strata
 
-DEFAULT_TIME_BUDGET = 1.0  # wall-clock seconds for one whole plan() call
-MIN_ATTEMPT_TIME = 0.25  # a later stratum still gets this long when the budget is spent
-CLEANUP_TIME = 0.04  # stopping the engine and reading its plan, measured at about 20 ms
+DEFAULT_TIME_BUDGET = 1.0  # seconds an anytime engine improves its first plan
+DEFAULT_FIRST_PLAN_LIMIT = 60.0  # seconds to find a first plan, for the whole call
 
 
 class Status(Enum):
     SOLVED = "solved"
     NO_PLAN = "no-plan"  # proven: no plan within any stratum
-    UNKNOWN = "unknown"  # the budget ran out before a plan or a proof
+    TIMEOUT = "not-found-in-time"  # no first plan within the first-plan limit; nothing proven
+    UNKNOWN = "unknown"  # an incomplete search ended without a plan; nothing proven
     ERROR = "error"
 
 
@@ -73,6 +81,9 @@ class PlanResult:
     planning_time_s: float
     engine: str
     message: str = ""
+    # seconds: compile, ground, sas (or translate, or to_up), search; first_plan: from the call's
+    # start to the first plan (the time_budget counts from there)
+    phases: dict[str, float] = field(default_factory=dict)
 
     @property
     def strata(self) -> list[int]:
@@ -95,6 +106,7 @@ class PlanResult:
                 for a in self.attempts
             ],
             "message": self.message,
+            "phases": {k: round(v, 4) for k, v in self.phases.items()},
         }
 
 
@@ -106,27 +118,42 @@ def plan(
     max_stratum: int | None = None,
     strata: bool = True,
     escalate_unproven: bool = True,
+    first_plan_limit: float = DEFAULT_FIRST_PLAN_LIMIT,
+    grounder: grounding.Grounder | None = None,
 ) -> PlanResult:
     """One plan for the task, ranked by strata, then by the criterion.
 
-    `time_budget` is wall-clock seconds for the whole call: compilation and
-    every stratum tried. Each attempt gets what remains (at least
-    MIN_ATTEMPT_TIME); an anytime engine returns its best plan at the deadline.
+    The first plan is sought for at most `first_plan_limit` seconds (compilation and every
+    stratum tried); an anytime engine improves it for `time_budget` seconds more.
 
-    With `strata=False` every operator is available at once and only the
-    criterion ranks plans: what the O-FSM ranking would cost, for comparison.
-    `escalate_unproven=False`: a stratum that ran out of time ends the call (status
-    UNKNOWN) instead of handing over to the next (`tidyplan.strata.plan_by_strata`).
+    A `grounder` (the loop's, kept across its replans) grounds the task from the model, reusing
+    the ground operators of the previous task; without one, Fast Downward's translator does, in
+    this process (it finds mutex groups, which the grounder does not: on floortile they halved
+    the search; on the tidy domain they made no difference, docs/planner.md).
+
+    With `strata=False` every operator is available at once and only the criterion ranks plans:
+    what the O-FSM ranking would cost, for comparison. `escalate_unproven=False`: a stratum whose
+    incomplete search ended without a plan ends the call (status UNKNOWN) instead of handing
+    over to the next (`tidyplan.strata.plan_by_strata`); running out of time always ends it.
     """
     start = time.perf_counter()
+    deadline = start + first_plan_limit
     task = compile_task(domain, problem)
-    engine = ENGINES.get(planner, Engine(planner))
+    engine = ENGINES.get(planner, Engine(up_name=planner))
     messages: list[str] = []
+    phases = {"compile": time.perf_counter() - start}
 
     def solve(sub: CompiledTask):
         t0 = time.perf_counter()
-        deadline = t0 + max(MIN_ATTEMPT_TIME, time_budget - (t0 - start))
-        outcome, steps = _solve_once(sub, task, engine, deadline, messages)
+        if engine.searches:
+            outcome, steps = _solve_direct(
+                sub, task, engine, deadline, time_budget, grounder, messages, phases
+            )
+        else:
+            outcome, steps = _solve_up(sub, task, engine, deadline, messages, phases)
+        first = phases.pop("_first_plan_at", None)
+        if outcome is Outcome.SOLVED:
+            phases["first_plan"] = (first or time.perf_counter()) - start
         return outcome, steps, time.perf_counter() - t0
 
     if strata:
@@ -141,47 +168,132 @@ def plan(
         outcomes = {a.outcome for a in attempts}
         if Outcome.ERROR in outcomes:
             status = Status.ERROR
+        elif Outcome.OUT_OF_TIME in outcomes:
+            status = Status.TIMEOUT
         elif outcomes == {Outcome.UNSOLVABLE}:
             status = Status.NO_PLAN
         else:
             status = Status.UNKNOWN
         tried = ", ".join(f"P{a.stratum} {a.outcome.value}" for a in attempts)
-        messages.insert(0, f"no plan within {tried}")
-        return PlanResult(status, (), None, None, tuple(attempts), elapsed, planner, "; ".join(messages))
+        if status is Status.TIMEOUT:
+            messages.insert(0, f"no plan found within {first_plan_limit:g} s, nothing proven ({tried})")
+        else:
+            messages.insert(0, f"no plan within {tried}")
+        return PlanResult(
+            status, (), None, None, tuple(attempts), elapsed, planner, "; ".join(messages), phases
+        )
     result_score = score((s.cost for s in steps), (s.probability for s in steps), task.reward)
-    return PlanResult(Status.SOLVED, tuple(steps), result_score, stratum, tuple(attempts), elapsed, planner)
+    return PlanResult(
+        Status.SOLVED,
+        tuple(steps),
+        result_score,
+        stratum,
+        tuple(attempts),
+        elapsed,
+        planner,
+        "; ".join(messages),
+        phases,
+    )
 
 
-def _solve_once(sub: CompiledTask, task: CompiledTask, engine: Engine, deadline: float, messages: list[str]):
+def _add(phases: dict[str, float], name: str, seconds: float) -> None:
+    phases[name] = phases.get(name, 0.0) + seconds
+
+
+_ENDINGS = {
+    fastdownward.Ending.UNSOLVABLE: Outcome.UNSOLVABLE,
+    fastdownward.Ending.GAVE_UP: Outcome.GAVE_UP,
+    fastdownward.Ending.OUT_OF_TIME: Outcome.OUT_OF_TIME,
+}
+
+
+def _solve_direct(sub, task, engine: Engine, deadline: float, improve: float, grounder, messages, phases):
+    """Ground the compiled task with the loop's grounder, or translate it (one task alone, or one
+    outside the grounder's fragment), then run the engine's searches."""
+    t0 = time.perf_counter()
+    grounded, why = None, ""
+    if grounder is not None:
+        try:
+            grounded = grounder.ground(sub.domain, sub.problem)
+        except grounding.OutsideFragment as outside:
+            why = f"translated by Fast Downward ({outside})"
+    t1 = time.perf_counter()
+    _add(phases, "ground", t1 - t0)
+    if grounded is not None:
+        if grounded.unsolvable:
+            return Outcome.UNSOLVABLE, None
+        if not grounded.goal:
+            return Outcome.SOLVED, []  # the goal holds already
+        sas = grounding.sas(grounded)
+        _add(phases, "sas", time.perf_counter() - t1)
+    else:
+        sas = fastdownward.sas_text(
+            fastdownward.translate(domain_text(sub.domain), problem_text(sub.problem))
+        )
+        _add(phases, "translate", time.perf_counter() - t1)
+        if why and why not in messages:
+            messages.append(why)
+    t2 = time.perf_counter()
+    result = fastdownward.search(sas, engine.searches, deadline, improve)
+    if result.ending is fastdownward.Ending.UNSUPPORTED and engine.fallback:
+        messages.append(
+            f"{engine.about.split(':')[0]} refused the task ({result.message}); used {engine.fallback}"
+        )
+        result = fastdownward.search(sas, ENGINES[engine.fallback].searches, deadline, improve)
+    _add(phases, "search", time.perf_counter() - t2)
+    if result.first_plan_at is not None:
+        phases["_first_plan_at"] = result.first_plan_at
+    if result.plan is not None:
+        return Outcome.SOLVED, _steps(result.plan.actions, task)
+    if result.ending in _ENDINGS:
+        return _ENDINGS[result.ending], None
+    messages.append(result.message)
+    return Outcome.ERROR, None
+
+
+def _solve_up(sub, task, engine: Engine, deadline: float, messages, phases):
+    """Any other engine, through unified-planning, one-shot until the deadline."""
+    from unified_planning.engines import PlanGenerationResultStatus as UpStatus
+
+    from .pddl.to_up import to_up
+
+    t0 = time.perf_counter()
     up_task = to_up(sub.domain, sub.problem)
-    # The engine's clock starts after our conversion: give it what is left.
-    budget = max(MIN_ATTEMPT_TIME, deadline - time.perf_counter() - CLEANUP_TIME)
-    result = run(up_task, engine, budget)
-    if result.status == UpStatus.UNSUPPORTED_PROBLEM and engine is not ENGINES[AXIOM_FALLBACK]:
-        # Some searches refuse axioms (LM-cut, for one); FD makes axioms of an
-        # `exists` goal or a negated quantifier. Retry with one that takes them.
-        messages.append(f"{engine.up_name} refused the task (axioms?); used {AXIOM_FALLBACK}")
-        result = run(up_task, ENGINES[AXIOM_FALLBACK], budget)
+    _add(phases, "to_up", time.perf_counter() - t0)
+    t1 = time.perf_counter()
+    result = run(up_task, engine, max(0.0, deadline - t1))
+    _add(phases, "search", time.perf_counter() - t1)
     if result.plan is not None:  # an empty plan too: the goal holds already
-        return Outcome.SOLVED, _steps(result.plan, task)
+        names = [
+            (ai.action.name, *(p.object().name for p in ai.actual_parameters)) for ai in result.plan.actions
+        ]
+        return Outcome.SOLVED, _steps(names, task)
     if result.status == UpStatus.UNSOLVABLE_PROVEN:
         return Outcome.UNSOLVABLE, None
-    if result.status in (UpStatus.UNSOLVABLE_INCOMPLETELY, UpStatus.TIMEOUT, UpStatus.MEMOUT):
+    if result.status in (UpStatus.TIMEOUT, UpStatus.MEMOUT) or time.perf_counter() >= deadline:
+        return Outcome.OUT_OF_TIME, None
+    if result.status == UpStatus.UNSOLVABLE_INCOMPLETELY:
         return Outcome.GAVE_UP, None  # an incomplete search that found nothing proves nothing
-    if time.perf_counter() >= deadline - CLEANUP_TIME:
-        # Killed at the deadline mid-translation, FD reports an internal error: out of time.
-        messages.append(f"{engine.up_name} ran out of time")
-        return Outcome.GAVE_UP, None
     log = " ".join(lm.message for lm in result.log_messages or [] if lm.message)
     messages.append(f"{engine.up_name} ended with {result.status.name}: {log.strip()[-300:]}")
     return Outcome.ERROR, None
 
 
-def _steps(up_plan, task: CompiledTask) -> list[Step]:
+def _steps(actions, task: CompiledTask) -> list[Step]:
+    """Plan steps ``(name, arg, ...)`` in the compiled task's names (or lower-cased, as Fast
+    Downward's translator writes them) as the file's own actions."""
+    names = {n: n for n in task.info} | {n.lower(): n for n in task.info}
+    objects = {o.name: o.name for o in (*task.problem.all_objects, *task.domain.constants)}
+    lowered = {o.lower(): o for o in objects}
     steps = []
-    for ai in up_plan.actions:
-        name = ai.action.name
-        args = tuple(p.object().name for p in ai.actual_parameters)
+    for action in actions:
+        try:
+            name = names[action[0]]
+            args = tuple(objects.get(a) or lowered[a] for a in action[1:])
+        except KeyError:
+            raise PlannerError(
+                f"the planner's plan names what the task does not: ({' '.join(action)})"
+            ) from None
         info = task.info[name]
         steps.append(
             Step(

@@ -30,7 +30,8 @@ class Outcome(Enum):
 
     SOLVED = "solved"
     UNSOLVABLE = "unsolvable"  # proven: no plan within these strata
-    GAVE_UP = "gave-up"  # no plan found in the time budget, none proven impossible
+    GAVE_UP = "gave-up"  # an incomplete search ended without a plan: none proven impossible
+    OUT_OF_TIME = "out-of-time"  # no plan within the first-plan limit: nothing proven
     ERROR = "error"
 
 
@@ -50,10 +51,10 @@ def plan_by_strata(
     """Solve with strata 1..K for K = 1, 2, ...; return the first plan found.
 
     `solve` runs one planner call on a restricted task and says how it ended.
-    With `escalate_unproven`, an attempt that gave up without proof also moves on to the next
-    stratum: the attempts show it (`Attempt.outcome`), so a user can raise the budget. Without
-    it the search stops there: a caller that can try again with more time (the mission) keeps
-    Occam's razor, a stratum K+1 plan only once 1..K is proven to have none.
+    An attempt out of time ends the search: a stratum K+1 plan is never taken because 1..K
+    could not be planned in time (Occam's razor: only once 1..K has none). With
+    `escalate_unproven`, an incomplete search that ended without a plan (no proof either) moves
+    on to the next stratum; the attempts show it (`Attempt.outcome`, `unproven_below`).
     """
     attempts: list[Attempt] = []
     for k in task.strata:
@@ -63,7 +64,9 @@ def plan_by_strata(
         attempts.append(Attempt(k, outcome, seconds))
         if outcome is Outcome.SOLVED:
             return result, k, attempts
-        if outcome is Outcome.ERROR or (outcome is Outcome.GAVE_UP and not escalate_unproven):
+        if outcome in (Outcome.ERROR, Outcome.OUT_OF_TIME) or (
+            outcome is Outcome.GAVE_UP and not escalate_unproven
+        ):
             break
     return None, None, attempts
 
