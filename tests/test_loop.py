@@ -348,6 +348,7 @@ def _stable(e: dict) -> dict:
     drop = {
         "wall_s",
         "planning_time_s",
+        "phases",  # seconds
         "wall_time_s",
         "replan_time_s",
         "trace",

@@ -84,6 +84,7 @@ class PlanResult:
     # seconds: compile, ground, sas (or translate, or to_up), search; first_plan: from the call's
     # start to the first plan (the time_budget counts from there)
     phases: dict[str, float] = field(default_factory=dict)
+    plans_found: int = 0  # plans the searches reported (an anytime search improving: more than 1)
 
     @property
     def strata(self) -> list[int]:
@@ -107,6 +108,7 @@ class PlanResult:
             ],
             "message": self.message,
             "phases": {k: round(v, 4) for k, v in self.phases.items()},
+            "plans_found": self.plans_found,
         }
 
 
@@ -143,6 +145,8 @@ def plan(
     messages: list[str] = []
     phases = {"compile": time.perf_counter() - start}
 
+    found = [0]
+
     def solve(sub: CompiledTask):
         t0 = time.perf_counter()
         if engine.searches:
@@ -152,6 +156,7 @@ def plan(
         else:
             outcome, steps = _solve_up(sub, task, engine, deadline, messages, phases)
         first = phases.pop("_first_plan_at", None)
+        found[0] += phases.pop("_plans_found", 0)
         if outcome is Outcome.SOLVED:
             phases["first_plan"] = (first or time.perf_counter()) - start
         return outcome, steps, time.perf_counter() - t0
@@ -193,6 +198,7 @@ def plan(
         planner,
         "; ".join(messages),
         phases,
+        found[0],
     )
 
 
@@ -243,6 +249,7 @@ def _solve_direct(sub, task, engine: Engine, deadline: float, improve: float, gr
     _add(phases, "search", time.perf_counter() - t2)
     if result.first_plan_at is not None:
         phases["_first_plan_at"] = result.first_plan_at
+    phases["_plans_found"] = result.plans_found
     if result.plan is not None:
         return Outcome.SOLVED, _steps(result.plan.actions, task)
     if result.ending in _ENDINGS:

@@ -25,8 +25,12 @@ class Planning:
     ``count``, ``config``, ``stratum`` and ``_plain``; sets ``snapshot``, ``steps``, ``goal``,
     ``goal_kind``, ``stratum`` and ``sim`` when a plan is adopted."""
 
+    _facts_s = 0.0  # seconds the last _goals spent on the map's facts
+
     def _goals(self):
+        t0 = time.perf_counter()
         facts = self.belief.facts()
+        self._facts_s = time.perf_counter() - t0  # the map's facts for this replan (cached since)
         out = [(label, [g for g in goal if g not in self.belief.undeliverable], virtual)
                for label, goal, virtual in goals(self.belief, facts)]  # fmt: skip
         self._facts, self._seen = facts, out[-1][1]
@@ -42,20 +46,28 @@ class Planning:
                 return nothing, None, None, 0.0
         n = self.count.replans
         name = f"tidy-replan-{n:03d}"
-        snap = write(self.belief, self.belief.facts(), goal, virtual, name, label == "horizon", self.domain)
-        problem = self._problem(snap, f"replan-{n:03d}.pddl")
         t0 = time.perf_counter()
+        facts = self.belief.facts()
+        t1 = time.perf_counter()
+        facts_s, self._facts_s = t1 - t0 + self._facts_s, 0.0  # the first goal tried pays for them
+        snap = write(self.belief, facts, goal, virtual, name, label == "horizon", self.domain)
+        problem = self._problem(snap, f"replan-{n:03d}.pddl")
+        t2 = time.perf_counter()
         result = self.planner(self.domain, problem, self.max_stratum)
-        seconds = time.perf_counter() - t0
-        self.count.plan_times.append(seconds)
-        base = f"replan-{n:03d}" + ("" if label == "all" else f"-{label}")
-        paths = {"domain": self._plain, **self.trace.save_replan(base, snap.text, self.domain, problem)}
+        t3 = time.perf_counter()
         previous = self.stratum
         p_commit = 0.0
         if result.status is Status.SOLVED:
             sim = Simulator(self.domain, problem)
             committed = commitment.commitment(result.steps, sim, sim.initial_state(problem), problem.goal)
             p_commit = commitment.probability(committed)
+        t4 = time.perf_counter()
+        seconds = facts_s + t4 - t1  # the replan: the map's facts, the problem, the planner, the check
+        self.count.plan_times.append(seconds)
+        base = f"replan-{n:03d}" + ("" if label == "all" else f"-{label}")
+        paths = {"domain": self._plain, **self.trace.save_replan(base, snap.text, self.domain, problem)}
+        phases = {"map_facts": facts_s, "problem": t2 - t1, **result.phases, "commitment": t4 - t3}
+        phases["saved"] = time.perf_counter() - t4  # the trace's copies (not part of the replan)
         self.trace.emit(
             "plan",
             replan=n,
@@ -65,6 +77,8 @@ class Planning:
             goal=list(goal),
             status=result.status.value,
             planning_time_s=round(seconds, 3),
+            phases={k: round(v, 4) for k, v in phases.items()},
+            plans_found=result.plans_found,
             stratum=result.stratum,
             transition=transition(previous, result.stratum) if result.stratum else None,
             attempts=[[a.stratum, a.outcome.value, round(a.seconds, 3)] for a in result.attempts],
