@@ -247,17 +247,20 @@ class Grounder:
                 init.add((a.predicate, *a.args))
         found = _reachable(schemas, static, reached, fluent, objects, members)
         # What an operator's effects looked up: it is kept while these are the same.
-        looked_up = {p: frozenset(static.by_predicate.get(p, ())) for p in _looked_up(schemas, fluent)}
-        every_object = tuple((t, tuple(names)) for t, names in sorted(objects.items()))
-        depends = {s.name: (tuple(looked_up[p] for p in _looked_up([s], fluent)),
-                            every_object if _ranges_over_types(s, fluent) else None)
-                   for s in schemas}  # fmt: skip
         everything = {(p, *args) for p, have in reached.by_predicate.items() for args in have}
+        every_object = tuple((t, tuple(names)) for t, names in sorted(objects.items()))
+        over_types = {s.name: _ranges_over_types(s, fluent) for s in schemas}
+        guards = {s.name: _guards(s, fluent) for s in schemas}
         operators = []
         self.reused = self.made = 0
         for (name, args), (s, b) in found.items():
             cost = (0 if s.cost is None else _cost(s, b, values)) if domain.has_costs else 1
-            seen = (s, cost, depends[s.name])
+            # what its effects look up: the static facts its forall conditions match, for its own
+            # arguments (where one item blocks a path, the takes of the others are kept)
+            looked = tuple(
+                frozenset(static.matching(p, at, _ground(args_of, b))) for p, at, args_of in guards[s.name]
+            )
+            seen = (s, cost, looked, every_object if over_types[s.name] else None)
             kept = self._operators.get((name, args))
             if kept is not None and kept[0] == seen:
                 generic = kept[1]
@@ -284,10 +287,17 @@ class Grounder:
         return Grounded(operators, facts, init, goal_facts, domain.has_costs, unsolvable)
 
 
-def _looked_up(schemas, fluent) -> list[str]:
-    """The static predicates in the schemas' effect conditions."""
-    return sorted({x.predicate for s in schemas for e in s.effects for x in e.condition
-                   if x.predicate not in fluent and x.predicate != "="})  # fmt: skip
+def _guards(s: _Schema, fluent) -> list[tuple[str, tuple[int, ...], tuple[str, ...]]]:
+    """The static atoms of the schema's effect conditions, each as (predicate, the positions the
+    action's own parameters or constants fill, those arguments): what its operators look up."""
+    out = []
+    for e in s.effects:
+        local = {v.name for v in e.variables}
+        for x in e.condition:
+            if x.predicate not in fluent and x.predicate != "=":
+                at = tuple(i for i, a in enumerate(x.args) if a not in local)
+                out.append((x.predicate, at, tuple(x.args[i] for i in at)))
+    return out
 
 
 def _ranges_over_types(s: _Schema, fluent) -> bool:
@@ -473,6 +483,8 @@ def _resolve(effects, pre: dict[Fact, bool]):
     """PDDL's rule that an add wins over a delete of the same fact; effects that set what the
     precondition already requires are dropped, as the translator does. None where an add and a
     delete of one fact have different conditions (SAS cannot say which wins)."""
+    if len({f for _, f, _ in effects}) == len(effects):  # each fact once: nothing to decide
+        return [(sorted(c) if len(c) > 1 else c, f, v) for c, f, v in effects if c or pre.get(f) != v]
     by_fact: dict[Fact, list] = {}
     for condition, fact, value in effects:
         by_fact.setdefault(fact, []).append((condition, value))
