@@ -1,7 +1,7 @@
 """A replan in the loop, phase by phase, beside Fast Downward's own driver on the same problem.
 
     python bench/replan.py [--sizes 12,48,96] [--replans 8] [--seed 0] [--planner lama-first]
-                           [--out DIR]
+                           [--time-budget 1] [--out DIR]
 
 For each size, a symbolic mission (12: problems/case3.toml; 48 and 96: bench/wrs.py's two-room
 layout, seed 0, 6 and 12 objects of each category in each room) runs until it has made
@@ -56,7 +56,7 @@ def _scenario(size: int, out: Path) -> Path:
     return path
 
 
-def _mission(scenario: Path, trace: Path, planner: str, seed: int, replans: int) -> list[dict]:
+def _mission(scenario: Path, trace: Path, planner: str, seed: int, replans: int, budget: float) -> list[dict]:
     from tidyplan.mission import Settings, run
 
     made = []
@@ -68,7 +68,8 @@ def _mission(scenario: Path, trace: Path, planner: str, seed: int, replans: int)
                 raise _Enough
 
     try:
-        run(str(scenario), trace, Settings(seed=seed, world="symbolic", planner=planner), on_event=listen)
+        settings = Settings(seed=seed, world="symbolic", planner=planner, time_budget=budget)
+        run(str(scenario), trace, settings, on_event=listen)
     except _Enough:
         pass
     return made
@@ -97,17 +98,20 @@ def main() -> int:
     ap.add_argument("--replans", type=int, default=8)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--planner", default="lama-first")
+    ap.add_argument("--time-budget", type=float, default=1.0, help="improvement seconds (anytime planners)")
     ap.add_argument("--out", default=None, metavar="DIR")
     args = ap.parse_args()
     try:
         sizes = [int(x) for x in args.sizes.split(",")]
     except ValueError:
         ap.exit(2, f"replan.py: --sizes: {args.sizes!r} is not a list of numbers\n")
+    if not args.time_budget > 0:
+        ap.exit(2, "replan.py: --time-budget must be a positive number of seconds\n")
     if args.replans < 1:
         ap.exit(2, "replan.py: --replans must be at least 1\n")
     out = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="tidyplan-replan-"))
     out.mkdir(parents=True, exist_ok=True)
-    print(f"traces under {out}; planner {args.planner}, seed {args.seed}")
+    print(f"traces under {out}; planner {args.planner} (budget {args.time_budget:g} s), seed {args.seed}")
     header = " ".join(f"{p[:9]:>9s}" for p in PHASES)
     summary = []
     for size in sizes:
@@ -115,7 +119,7 @@ def main() -> int:
         trace = out / f"n{size}-s{args.seed}-{args.planner}.jsonl"
         if trace.exists():
             ap.exit(2, f"replan.py: {trace} exists; choose another --out\n")
-        plans = _mission(scenario, trace, args.planner, args.seed, args.replans)
+        plans = _mission(scenario, trace, args.planner, args.seed, args.replans, args.time_budget)
         print(f"\n{size} objects ({scenario.name}): {len(plans)} replans")
         print(f"  {'replan':>6s} {header} {'in-loop':>8s} {'driver':>8s} {'ratio':>6s}")
         ratios, loops, drivers = [], [], []

@@ -254,13 +254,13 @@ class Mission(Planning):
         self.pending.clear()
         self.bound.clear()
         unlikely: list[float] = []
-        out_of_time = 0  # goals whose search ran out of time on every retry: nothing proven
+        out_of_time = 0  # goals not planned in time (or by an incomplete search): nothing proven
         for label, goal, virtual in self._goals():
             if not goal:
                 continue
             result, snap, problem, p = self._plan(goal, virtual, cause, why, label)
             if result.status is not Status.SOLVED:
-                out_of_time += result.status is Status.UNKNOWN
+                out_of_time += result.status in (Status.TIMEOUT, Status.UNKNOWN)
                 continue
             if p < self.config.min_probability:  # narrow the goal: a shorter commitment may pass
                 unlikely.append(p)
