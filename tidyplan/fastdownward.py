@@ -7,7 +7,7 @@ Downward's translator (the `fast-downward.translate` package that comes with up-
 in this process; its SAS task goes to the search binary of the same package, whose plan files
 are read as they appear. docs/planner.md has the measurements.
 
-Time has two parts (`solve`): the first plan is sought until `first_limit`; once there is one,
+Time has two parts (`search`): the first plan is sought until `first_limit`; once there is one,
 an anytime search improves it for `improve` seconds more. A search that ends before either
 (proved the task unsolvable, or proved its last plan optimal) ends the call then.
 
@@ -67,7 +67,7 @@ def _driver(module: str):
 
 
 # The search binary's exit codes (Fast Downward's driver/returncodes.py).
-SUCCESS, PLAN_FOUND_OUT_OF_TIME = 0, 2
+SUCCESS = 0
 UNSOLVABLE, UNSOLVED_INCOMPLETE, UNSUPPORTED = 11, 12, 34
 
 
@@ -83,7 +83,7 @@ class Ending(Enum):
 
 @dataclass
 class Plan:
-    actions: list[tuple[str, ...]]  # (name, arg, ...), lower case as Fast Downward writes them
+    actions: list[tuple[str, ...]]  # (name, arg, ...) as the SAS task names them (the translator lower-cases)
     cost: int
     at: float  # time.perf_counter() when it was read
 
@@ -92,7 +92,6 @@ class Plan:
 class Result:
     ending: Ending
     plan: Plan | None
-    translate_s: float = 0.0
     search_s: float = 0.0
     plans_found: int = 0
     message: str = ""
@@ -132,10 +131,11 @@ def _guarded_foralls():
     """Fast Downward's translator instantiates a universal effect over every tuple of objects of
     its variables' types, and only then tests the condition. tidy.pddl's take_object has one,
     `(forall (?a ?b - waypoint) (when (blocks ?o ?a ?b) ...))`: at 96 objects that is 2,809
-    tuples for each of some 300 take operators, 70 % of the translation. Where the condition
-    has a positive atom over every variable, only the tuples the translator could find true
-    (in the initial state or reachable) are tried, in the order the translator would have
-    tried them: the SAS task is the same (tests/test_fastdownward.py compares them)."""
+    tuples for each take operator. Where the condition has a positive atom over every variable,
+    only the tuples the translator could find true (in the initial state or reachable) are
+    tried, in the order the translator would have tried them, so the SAS task is the same
+    (tests/test_grounding.py compares them); the translation of a 96-object problem took
+    3.5-4.3 s so, 4.9-5.1 s without (docs/planner.md)."""
     original = fd_effects.Effect.instantiate
     facts: dict[str, set[tuple[str, ...]]] = {}
     # (predicate, positions of the values the action binds) -> those values -> the atoms' args
@@ -198,10 +198,6 @@ def sas_text(sas_task) -> str:
     return out.getvalue()
 
 
-def is_unit_cost(sas_task) -> bool:
-    return not sas_task.metric or all(op.cost == 1 for op in sas_task.operators)
-
-
 # ---------------------------------------------------------------------- search
 def search(sas: str, searches: Sequence[Search], first_deadline: float, improve: float) -> Result:
     """Run the searches side by side (one process each) on one SAS task.
@@ -221,17 +217,6 @@ def search(sas: str, searches: Sequence[Search], first_deadline: float, improve:
             f.write(sas)
         result = _search(sas_path, tmp, searches, first_deadline, improve)
     result.search_s = time.perf_counter() - start
-    return result
-
-
-def solve(
-    domain_text: str, problem_text: str, searches: Sequence[Search], first_limit: float, improve: float
-):
-    """Translate PDDL text with Fast Downward's translator, then `search`."""
-    start = time.perf_counter()
-    sas = sas_text(translate(domain_text, problem_text))
-    result = search(sas, searches, start + first_limit, improve)
-    result.translate_s = time.perf_counter() - start - result.search_s
     return result
 
 

@@ -145,18 +145,17 @@ def plan(
     messages: list[str] = []
     phases = {"compile": time.perf_counter() - start}
 
-    found = [0]
+    found = [0]  # plans the searches reported, over the strata tried
 
     def solve(sub: CompiledTask):
         t0 = time.perf_counter()
         if engine.searches:
-            outcome, steps = _solve_direct(
+            outcome, steps, first, plans = _solve_direct(
                 sub, task, engine, deadline, time_budget, grounder, messages, phases
             )
         else:
-            outcome, steps = _solve_up(sub, task, engine, deadline, messages, phases)
-        first = phases.pop("_first_plan_at", None)
-        found[0] += phases.pop("_plans_found", 0)
+            outcome, steps, first, plans = _solve_up(sub, task, engine, deadline, messages, phases)
+        found[0] += plans
         if outcome is Outcome.SOLVED:
             phases["first_plan"] = (first or time.perf_counter()) - start
         return outcome, steps, time.perf_counter() - t0
@@ -215,7 +214,8 @@ _ENDINGS = {
 
 def _solve_direct(sub, task, engine: Engine, deadline: float, improve: float, grounder, messages, phases):
     """Ground the compiled task with the loop's grounder, or translate it (one task alone, or one
-    outside the grounder's fragment), then run the engine's searches."""
+    outside the grounder's fragment), then run the engine's searches. Returns (outcome, steps,
+    when the first plan came (a time.perf_counter() time, or None), how many plans came)."""
     t0 = time.perf_counter()
     grounded, why = None, ""
     if grounder is not None:
@@ -224,12 +224,13 @@ def _solve_direct(sub, task, engine: Engine, deadline: float, improve: float, gr
         except grounding.OutsideFragment as outside:
             why = f"translated by Fast Downward ({outside})"
     t1 = time.perf_counter()
-    _add(phases, "ground", t1 - t0)
+    if grounder is not None:
+        _add(phases, "ground", t1 - t0)
     if grounded is not None:
         if grounded.unsolvable:
-            return Outcome.UNSOLVABLE, None
+            return Outcome.UNSOLVABLE, None, None, 0
         if not grounded.goal:
-            return Outcome.SOLVED, []  # the goal holds already
+            return Outcome.SOLVED, [], None, 1  # the goal holds already: the empty plan
         sas = grounding.sas(grounded)
         _add(phases, "sas", time.perf_counter() - t1)
     else:
@@ -247,15 +248,13 @@ def _solve_direct(sub, task, engine: Engine, deadline: float, improve: float, gr
         )
         result = fastdownward.search(sas, ENGINES[engine.fallback].searches, deadline, improve)
     _add(phases, "search", time.perf_counter() - t2)
-    if result.first_plan_at is not None:
-        phases["_first_plan_at"] = result.first_plan_at
-    phases["_plans_found"] = result.plans_found
+    found = (result.first_plan_at, result.plans_found)
     if result.plan is not None:
-        return Outcome.SOLVED, _steps(result.plan.actions, task)
+        return Outcome.SOLVED, _steps(result.plan.actions, task), *found
     if result.ending in _ENDINGS:
-        return _ENDINGS[result.ending], None
+        return _ENDINGS[result.ending], None, *found
     messages.append(result.message)
-    return Outcome.ERROR, None
+    return Outcome.ERROR, None, *found
 
 
 def _solve_up(sub, task, engine: Engine, deadline: float, messages, phases):
@@ -274,16 +273,16 @@ def _solve_up(sub, task, engine: Engine, deadline: float, messages, phases):
         names = [
             (ai.action.name, *(p.object().name for p in ai.actual_parameters)) for ai in result.plan.actions
         ]
-        return Outcome.SOLVED, _steps(names, task)
+        return Outcome.SOLVED, _steps(names, task), None, 1
     if result.status == UpStatus.UNSOLVABLE_PROVEN:
-        return Outcome.UNSOLVABLE, None
+        return Outcome.UNSOLVABLE, None, None, 0
     if result.status in (UpStatus.TIMEOUT, UpStatus.MEMOUT) or time.perf_counter() >= deadline:
-        return Outcome.OUT_OF_TIME, None
+        return Outcome.OUT_OF_TIME, None, None, 0
     if result.status == UpStatus.UNSOLVABLE_INCOMPLETELY:
-        return Outcome.GAVE_UP, None  # an incomplete search that found nothing proves nothing
+        return Outcome.GAVE_UP, None, None, 0  # an incomplete search that found nothing proves nothing
     log = " ".join(lm.message for lm in result.log_messages or [] if lm.message)
     messages.append(f"{engine.up_name} ended with {result.status.name}: {log.strip()[-300:]}")
-    return Outcome.ERROR, None
+    return Outcome.ERROR, None, None, 0
 
 
 def _steps(actions, task: CompiledTask) -> list[Step]:
