@@ -164,3 +164,30 @@ def test_a_search_that_cannot_start_is_one_message_and_leaves_nothing(monkeypatc
     with pytest.raises(PlannerError, match="cannot start Fast Downward's search"):
         fd.search("begin_version\n3\nend_version\n", [OPTIMAL], 1e18, 0.0)
     assert {x for x in os.listdir(tempfile.gettempdir()) if x.startswith("tidyplan-fd-")} <= before
+
+
+def test_the_sas_task_is_the_same_in_every_process():
+    # string hashing, and with it the order of sets, changes from one process to the next; the
+    # search breaks ties by operator order, so the SAS task must not follow it
+    import hashlib
+    import subprocess
+
+    script = (
+        "import sys; sys.path.insert(0, 'bench'); import tidygen, tempfile, pathlib\n"
+        "from tidyplan import grounding\n"
+        "from tidyplan.pddl.compile import compile_task\n"
+        "from tidyplan.pddl.reader import read\n"
+        "p = pathlib.Path(tempfile.mkdtemp()) / 'p.pddl'\n"
+        "p.write_text(tidygen.generate(2).replace('    (shortest-paths)\\n', ''))\n"
+        "t = compile_task(*read('domains/tidy.pddl', p))\n"
+        "sys.stdout.write(grounding.sas(grounding.ground(t.domain, t.problem)))\n"
+    )
+    outputs = set()
+    for seed in ("1", "2", "3"):
+        env = {**os.environ, "PYTHONHASHSEED": seed}
+        done = subprocess.run(
+            [sys.executable, "-c", script], cwd=ROOT, env=env, capture_output=True, text=True
+        )
+        assert done.returncode == 0, done.stderr
+        outputs.add(hashlib.sha256(done.stdout.encode()).hexdigest())
+    assert len(outputs) == 1

@@ -220,16 +220,18 @@ class Grounder:
     the reachability from the new state is computed again (docs/planner.md)."""
 
     def __init__(self) -> None:
-        self._operators: dict[tuple, tuple] = {}
-        self._actions: tuple = ()
-        self._schemas: tuple[_Schema, ...] = ()
+        # by the names of the domain's actions (each stratum's restriction has its own): the
+        # actions, their schemas, and the operators kept
+        self._kept: dict[tuple[str, ...], tuple[tuple, tuple[_Schema, ...], dict]] = {}
         self.reused = self.made = 0
 
     def ground(self, domain: m.Domain, problem: m.Problem) -> Grounded:
         """Relaxed-reachable ground operators of a compiled task (raises OutsideFragment)."""
-        if domain.actions != self._actions:  # the same schemas (objects) while the domain is the same
-            self._actions, self._schemas, self._operators = domain.actions, _schemas(domain), {}
-        schemas = self._schemas
+        names = tuple(a.name for a in domain.actions)
+        kept = self._kept.get(names)
+        if kept is None or kept[0] != domain.actions:  # the same schemas while the actions are the same
+            kept = self._kept[names] = (domain.actions, _schemas(domain), {})
+        _, schemas, kept_operators = kept
         goal = _literals(problem.goal, "the goal")
         parents = domain.type_parents
         objects: dict[str, list[str]] = {}
@@ -261,13 +263,13 @@ class Grounder:
                 frozenset(static.matching(p, at, _ground(args_of, b))) for p, at, args_of in guards[s.name]
             )
             seen = (s, cost, looked, every_object if over_types[s.name] else None)
-            kept = self._operators.get((name, args))
-            if kept is not None and kept[0] == seen:
-                generic = kept[1]
+            had = kept_operators.get((name, args))
+            if had is not None and had[0] == seen:
+                generic = had[1]
                 self.reused += 1
             else:
                 generic = _keep(_generic(s, name, args, b, static, fluent, objects, members, cost))
-                self._operators[(name, args)] = (seen, generic)
+                kept_operators[(name, args)] = (seen, generic)
                 self.made += 1
             op = _final(generic, everything) if generic is not None else None
             if op is not None:
@@ -284,6 +286,9 @@ class Grounder:
             elif not lit.negated:
                 unsolvable = True
         facts = sorted((p, *args) for p, have in reached.by_predicate.items() for args in have)
+        # sorted: the joins follow sets, whose order changes from one process to the next, and the
+        # search breaks ties by operator order (the same seed must give the same plan)
+        operators.sort(key=lambda op: op.name)
         return Grounded(operators, facts, init, goal_facts, domain.has_costs, unsolvable)
 
 
@@ -464,7 +469,7 @@ def _finalize(op: Operator, reached) -> Operator | None:
                 break  # its condition can never hold
         else:
             effects.append((kept, fact, value))
-    resolved = _resolve(effects, pre)
+    resolved = _resolve(sorted(effects, key=lambda e: (e[1], e[2], e[0])), pre)
     if resolved is None:
         raise OutsideFragment(f"({op.name}): a fact both added and deleted under conditions")
     if not resolved:
