@@ -103,6 +103,11 @@ def test_compile_out_that_is_a_file_is_bad_input_not_a_traceback(write, tmp_path
         (["plan", "d.pddl", "p.pddl", "--time-budget", "nan"], r"tidyplan plan: error: .*--time-budget.*"),
         (["plan", "d.pddl", "p.pddl", "--max-stratum", "0"], r"tidyplan plan: error: .*--max-stratum.*"),
         (
+            ["plan", "d.pddl", "p.pddl", "--first-plan-limit", "0"],
+            r"tidyplan plan: error: .*--first-plan-limit.*",
+        ),
+        (["run", "--first-plan-limit", "-2"], r"tidyplan run: error: .*--first-plan-limit.*"),
+        (
             ["compile", "d.pddl", "p.pddl", "--out", "o", "--max-stratum", "0"],
             r"tidyplan compile: error: .*--max-stratum.*",
         ),
@@ -112,6 +117,8 @@ def test_compile_out_that_is_a_file_is_bad_input_not_a_traceback(write, tmp_path
         "time-budget-negative",
         "time-budget-nan",
         "max-stratum-0",
+        "first-plan-limit-0",
+        "run-first-plan-limit-negative",
         "compile-max-stratum-0",
         "unknown-planner",
     ],

@@ -26,6 +26,8 @@ def test_the_shipped_domain_and_scenarios_are_found_from_the_package():
         ({"strategy": "random"}, "strategy: 'random' is not one of"),
         ({"gui": True, "world": "symbolic"}, "gui: only the pybullet world has a window"),
         ({"max_recovery": -1}, "max_recovery: -1 is negative"),
+        ({"first_plan_limit": 0}, "first_plan_limit: 0 is not a positive number of seconds"),
+        ({"time_budget": float("nan")}, "time_budget: nan is not a positive number of seconds"),
         ({"faults": "grasp_drop=2"}, "--faults: grasp_drop=2: the rate must be in [0, 1]"),
         ({"planner": "no-such-planner"}, "no-such-planner"),
     ],
