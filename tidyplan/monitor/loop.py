@@ -297,8 +297,8 @@ class Mission(Planning):
         left = [k.name for k in self._open()] + [v for v, _ in self.belief.virtual()]
         if not self.world.untidied():  # nothing more can be done: the referee's verdict decides
             return f"goal reached; no plan for {' '.join(left)}, which the belief still held"
-        # "no plan" where the planner proved it; where a search ran out of time on every retry
-        # (tidyplan.mission.plan_with_retries), the reason says so: nothing was proven
+        # "no plan" where the planner proved it; where a goal was not planned in time
+        # (tidyplan.mission.mission_plan), the reason says so: nothing was proven
         timed_out = f" ({out_of_time} goals not planned in time, unproven)" if out_of_time else ""
         return (f"no plan for {' '.join(left)}" if left else "no plan") + timed_out
 
