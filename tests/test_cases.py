@@ -76,19 +76,23 @@ def test_ofsm_tidies_all_12_objects(name, tmp_path):
 @pytest.mark.parametrize("name", CASES)
 def test_with_faults_on_nothing_is_lost(name, tmp_path):
     # The issue's fault set: items fall while carried, the camera misses and imagines things.
-    # LAMA's first plan, not the anytime default: with a wall-clock budget the plans, and so the
-    # run, depend on how loaded the machine is (case I once ended "no plan" in a fresh clone
-    # beside another test run; issue 17 makes the budget improvement time)
+    # LAMA's first plan, not the anytime default: how far the anytime search improves its plans
+    # in its second, and so the run, depends on how loaded the machine is
+    # Seeds from 2 on until one drops something in transit (which seed does depends on the
+    # plans, and so on the planner): every run loses nothing and tidies all.
     rates = parse_faults("grasp_drop=0.2,perception_miss=0.2,perception_false=0.05")
-    trace = tmp_path / "t.jsonl"
-    settings = Settings("ofsm", seed=2, rates=rates, planner="lama-first", time_budget=30.0)
-    summary = run(PROBLEMS / f"{name}.toml", trace, settings)
-    assert summary["lost_objects"] == 0
-    assert summary["success"], summary["reason"]
-    events = [json.loads(line) for line in open(trace, encoding="utf-8")]
-    drops = [e for e in events if e["kind"] == "unit" and e["failure"] == "grasp_drop"]
-    assert drops, "seed 2 must drop something in transit"
-    assert summary["recoveries"] >= len(drops)
+    for seed in range(2, 7):
+        trace = tmp_path / f"t{seed}.jsonl"
+        settings = Settings("ofsm", seed=seed, rates=rates, planner="lama-first", time_budget=30.0)
+        summary = run(PROBLEMS / f"{name}.toml", trace, settings)
+        assert summary["lost_objects"] == 0, seed
+        assert summary["success"], (seed, summary["reason"])
+        events = [json.loads(line) for line in open(trace, encoding="utf-8")]
+        drops = [e for e in events if e["kind"] == "unit" and e["failure"] == "grasp_drop"]
+        if drops:
+            assert summary["recoveries"] >= len(drops)
+            break
+    assert drops, "no seed of 2-6 dropped anything in transit"
 
 
 @pytest.mark.slow
