@@ -292,7 +292,7 @@ def _scale(domain: m.Domain, infos: dict[str, ActionInfo], values) -> int:
 def _applicable(a: m.Action, changed: set[str], problem: m.Problem):
     """A static atom of the action's precondition and its true tuples, or None: a cost is only
     tabulated where that atom holds (the move costs of the pairs with a path, not of every
-    pair of waypoints: a third of a 96-object problem's values were never usable)."""
+    pair of waypoints: half of a 96-object problem's values were never usable)."""
     parts = a.precondition.parts if isinstance(a.precondition, m.And) else (a.precondition,)
     for part in parts:
         if isinstance(part, m.Atom) and part.predicate != "=" and part.predicate not in changed:
