@@ -23,6 +23,7 @@ from collections.abc import Iterable
 from . import fragment
 from .fragment import Eff, Fact, Lit, OutsideFragment, Schema, fragment_gap, literals
 from .pddl import model as m
+from .pddl.simulate import ancestors
 from .sas import Grounded, Operator, final, keep, sas
 
 __all__ = ["Grounded", "Grounder", "Operator", "OutsideFragment", "fragment_gap", "ground", "sas"]
@@ -120,7 +121,7 @@ class Grounder:
         parents = domain.type_parents
         objects: dict[str, list[str]] = {}
         for obj in (*domain.constants, *problem.all_objects):
-            for t in _ancestors(obj.types, parents):
+            for t in ancestors(obj.types, parents):
                 objects.setdefault(t, []).append(obj.name)
         members = {t: set(names) for t, names in objects.items()}
         fluent = {e.literal.predicate for s in schemas for e in s.effects}
@@ -333,15 +334,3 @@ def _cost(s: Schema, b: dict, values) -> int:
     if amount != int(amount) or amount < 0:
         raise OutsideFragment(f"action {s.name}: cost {amount} is not a natural number")
     return int(amount)
-
-
-def _ancestors(types, parents) -> set[str]:
-    seen: set[str] = set()
-    todo = list(types)
-    while todo:
-        t = todo.pop()
-        if t not in seen:
-            seen.add(t)
-            todo.extend(parents.get(t, ()))
-    seen.add(m.ROOT_TYPE)
-    return seen

@@ -85,6 +85,7 @@ class PlanResult:
     # start to the first plan (the time_budget counts from there)
     phases: dict[str, float] = field(default_factory=dict)
     plans_found: int = 0  # plans the searches reported (an anytime search improving: more than 1)
+    task: CompiledTask | None = field(default=None, repr=False, compare=False)  # as compiled here
 
     @property
     def strata(self) -> list[int]:
@@ -184,7 +185,7 @@ def plan(
         else:
             messages.insert(0, f"no plan within {tried}")
         return PlanResult(
-            status, (), None, None, tuple(attempts), elapsed, planner, "; ".join(messages), phases
+            status, (), None, None, tuple(attempts), elapsed, planner, "; ".join(messages), phases, 0, task
         )
     result_score = score((s.cost for s in steps), (s.probability for s in steps), task.reward)
     return PlanResult(
@@ -198,6 +199,7 @@ def plan(
         "; ".join(messages),
         phases,
         found[0],
+        task,
     )
 
 

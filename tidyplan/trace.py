@@ -54,7 +54,9 @@ class NoTrace:
     def save(self, name: str, text: str) -> str | None:
         return None
 
-    def save_replan(self, base: str, text: str, domain: m.Domain, problem: m.Problem) -> dict[str, str]:
+    def save_replan(
+        self, base: str, text: str, domain: m.Domain, problem: m.Problem, task=None
+    ) -> dict[str, str]:
         return {}
 
     def close(self) -> None:
@@ -95,12 +97,15 @@ class TraceWriter(NoTrace):
         target.write_text(text, encoding="utf-8")
         return os.path.relpath(target, self.path.parent)
 
-    def save_replan(self, base: str, text: str, domain: m.Domain, problem: m.Problem) -> dict[str, str]:
+    def save_replan(
+        self, base: str, text: str, domain: m.Domain, problem: m.Problem, task=None
+    ) -> dict[str, str]:
         """The files of one plan: the dialect problem ``text`` as ``base.pddl``, and the plain
-        PDDL the compiler makes of it in ``base/``; returns the ``plan`` event's path fields."""
+        PDDL the compiler makes of it in ``base/`` (``task``: the planner's compilation of it, if
+        it has one); returns the ``plan`` event's path fields."""
         out = {"problem": self.save(f"{base}.pddl", text)}
         try:
-            task = compile_task(domain, problem)
+            task = task or compile_task(domain, problem)
             out["plain_domain"] = self.save(f"{base}/domain.pddl", domain_text(task.domain))
             out["plain_problem"] = self.save(f"{base}/problem.pddl", problem_text(task.problem))
         except Exception as err:  # noqa: BLE001 - a plain copy is a convenience; the plan goes on

@@ -65,7 +65,10 @@ class Planning:
         seconds = facts_s + t4 - t1  # the replan: the map's facts, the problem, the planner, the check
         self.count.plan_times.append(seconds)
         base = f"replan-{n:03d}" + ("" if label == "all" else f"-{label}")
-        paths = {"domain": self._plain, **self.trace.save_replan(base, snap.text, self.domain, problem)}
+        paths = {
+            "domain": self._plain,
+            **self.trace.save_replan(base, snap.text, self.domain, problem, result.task),
+        }
         phases = {"map_facts": facts_s, "problem": t2 - t1, **result.phases, "commitment": t4 - t3}
         phases["saved"] = time.perf_counter() - t4  # the trace's copies (not part of the replan)
         self.trace.emit(

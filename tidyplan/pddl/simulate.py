@@ -27,7 +27,7 @@ class Simulator:
         parents = domain.type_parents
         self._objects: dict[str, list[str]] = {}
         for obj in tuple(domain.constants) + problem.all_objects:
-            for t in _ancestors(obj.types, parents):
+            for t in ancestors(obj.types, parents):
                 self._objects.setdefault(t, []).append(obj.name)
 
     def initial_state(self, problem: m.Problem) -> State:
@@ -70,7 +70,8 @@ class Simulator:
         return {p.name: a for p, a in zip(action.parameters, args, strict=True)}
 
 
-def _ancestors(types: Sequence[str], parents: Mapping[str, Sequence[str]]) -> set[str]:
+def ancestors(types: Sequence[str], parents: Mapping[str, Sequence[str]]) -> set[str]:
+    """The types given, every type above them, and the root type."""
     seen: set[str] = set()
     todo = list(types)
     while todo:
