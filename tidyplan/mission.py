@@ -113,9 +113,14 @@ def mission_plan(domain, problem, settings: Settings, max_stratum, grounder=None
     plan is used only when P1 has none, never because P1 was slow (under load, or at scale).
     Where an incomplete search ended without a plan (nothing proven), the call is made again
     letting the next stratum plan; the trace marks such a plan (`unproven_below`) and Table II's
-    count keeps it apart."""
+    count keeps it apart.
+
+    Every move stays open (no `tidyplan.moves` reduction): in a room partly unseen, a stop at
+    an idle viewpoint on the way is worth what the model does not price (looking), and with
+    moves only to where there is work, greedy failed case I at the first replan (0 of 12, the
+    robot driven straight into items nobody had seen; docs/planner.md)."""
     args = (domain, problem, settings.planner, settings.time_budget, max_stratum)
-    kwargs = dict(first_plan_limit=settings.first_plan_limit, grounder=grounder)
+    kwargs = dict(first_plan_limit=settings.first_plan_limit, grounder=grounder, reduce_moves=False)
     result = plan(*args, escalate_unproven=False, **kwargs)
     if result.status is Status.UNKNOWN:
         result = plan(*args, **kwargs)

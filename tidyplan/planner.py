@@ -22,7 +22,7 @@ import time
 from dataclasses import dataclass, field
 from enum import Enum
 
-from . import fastdownward, grounding
+from . import fastdownward, grounding, moves
 from .criterion import Score, score
 from .engines import DEFAULT_ENGINE, ENGINES, Engine, run
 from .errors import PlannerError
@@ -123,6 +123,7 @@ def plan(
     escalate_unproven: bool = True,
     first_plan_limit: float = DEFAULT_FIRST_PLAN_LIMIT,
     grounder: grounding.Grounder | None = None,
+    reduce_moves: bool = True,
 ) -> PlanResult:
     """One plan for the task, ranked by strata, then by the criterion.
 
@@ -138,6 +139,9 @@ def plan(
     what the O-FSM ranking would cost, for comparison. `escalate_unproven=False`: a stratum whose
     incomplete search ended without a plan ends the call (status UNKNOWN) instead of handing
     over to the next (`tidyplan.strata.plan_by_strata`); running out of time always ends it.
+
+    With `reduce_moves`, a domain's pure moves go only to where there is work
+    (`tidyplan.moves`: the same optimum, far fewer states); plans come back in the task's words.
     """
     start = time.perf_counter()
     deadline = start + first_plan_limit
@@ -150,12 +154,21 @@ def plan(
 
     def solve(sub: CompiledTask):
         t0 = time.perf_counter()
+        # per stratum: what the restricted task's actions never do is part of the argument
+        reduced = moves.reduce_moves(sub) if reduce_moves else None
+        _add(phases, "moves", time.perf_counter() - t0)
+        if reduced is not None:
+            sub = reduced.task
+
+        def read_back(actions) -> list[Step]:
+            return _steps([reduced.original(a) for a in actions] if reduced else actions, task)
+
         if engine.searches:
             outcome, steps, first, plans = _solve_direct(
-                sub, task, engine, deadline, time_budget, grounder, messages, phases
+                sub, read_back, engine, deadline, time_budget, grounder, messages, phases
             )
         else:
-            outcome, steps, first, plans = _solve_up(sub, task, engine, deadline, messages, phases)
+            outcome, steps, first, plans = _solve_up(sub, read_back, engine, deadline, messages, phases)
         found[0] += plans
         if outcome is Outcome.SOLVED:
             phases["first_plan"] = (first or time.perf_counter()) - start
@@ -214,7 +227,7 @@ _ENDINGS = {
 }
 
 
-def _solve_direct(sub, task, engine: Engine, deadline: float, improve: float, grounder, messages, phases):
+def _solve_direct(sub, read_back, engine: Engine, deadline: float, improve: float, grounder, messages, phases):  # noqa: E501
     """Ground the compiled task with the loop's grounder, or translate it (one task alone, or one
     outside the grounder's fragment), then run the engine's searches. Returns (outcome, steps,
     when the first plan came (a time.perf_counter() time, or None), how many plans came)."""
@@ -252,14 +265,14 @@ def _solve_direct(sub, task, engine: Engine, deadline: float, improve: float, gr
     _add(phases, "search", time.perf_counter() - t2)
     found = (result.first_plan_at, result.plans_found)
     if result.plan is not None:
-        return Outcome.SOLVED, _steps(result.plan.actions, task), *found
+        return Outcome.SOLVED, read_back(result.plan.actions), *found
     if result.ending in _ENDINGS:
         return _ENDINGS[result.ending], None, *found
     messages.append(result.message)
     return Outcome.ERROR, None, *found
 
 
-def _solve_up(sub, task, engine: Engine, deadline: float, messages, phases):
+def _solve_up(sub, read_back, engine: Engine, deadline: float, messages, phases):
     """Any other engine, through unified-planning, one-shot until the deadline."""
     from unified_planning.engines import PlanGenerationResultStatus as UpStatus
 
@@ -275,7 +288,7 @@ def _solve_up(sub, task, engine: Engine, deadline: float, messages, phases):
         names = [
             (ai.action.name, *(p.object().name for p in ai.actual_parameters)) for ai in result.plan.actions
         ]
-        return Outcome.SOLVED, _steps(names, task), None, 1
+        return Outcome.SOLVED, read_back(names), None, 1
     if result.status == UpStatus.UNSOLVABLE_PROVEN:
         return Outcome.UNSOLVABLE, None, None, 0
     if result.status in (UpStatus.TIMEOUT, UpStatus.MEMOUT) or time.perf_counter() >= deadline:
