@@ -22,6 +22,8 @@ from dataclasses import dataclass
 
 import networkx as nx
 import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
 
 CELL = 0.05  # m: 5 cm resolves the ~0.2 m gaps between WRS items and keeps the graph small
 # The robot as a disc: half the HSR's footprint of about 0.43 m across (../shared/HSR.md; a
@@ -84,6 +86,9 @@ class OccupancyGrid:
         self._graph_built: nx.Graph | None = None  # built on first use: ``graph``
         # one Dijkstra per source cell, remembered: lengths and the cell before each on its path
         self._trees: dict[Cell, tuple[dict[Cell, float], dict[Cell, Cell]]] = {}
+        self._lengths: dict[Cell, np.ndarray] = {}  # a source cell's lengths to every free cell
+        self._index: np.ndarray | None = None
+        self._csr: csr_matrix | None = None
         self._component: dict[Cell, int] = {}  # cell -> its connected component's number
         self._label: dict[Cell, int] | None = None  # every free cell's component (_labels)
 
@@ -118,34 +123,21 @@ class OccupancyGrid:
     # ------------------------------------------------------------------ paths
     def path_length(self, a: Point, b: Point) -> float | None:
         """Shortest path length between the cells of a and b in metres; None if unreachable."""
-        ca, cb = self.cell(*a), self.cell(*b)
-        if not (self._free_cell(ca) and self._free_cell(cb)):
-            return None
-        try:
-            return nx.dijkstra_path_length(self.graph, ca, cb, weight="weight")
-        except nx.NetworkXNoPath:
-            return None
+        return self.lengths_from(a, [b])[0]
 
     def path_lengths(self, points: Sequence[Point]) -> list[list[float | None]]:
-        """All pairs of ``path_length``, one Dijkstra per source: row k holds the lengths from
-        points[k] to every point (None: unreachable)."""
+        """All pairs of ``path_length``: row k holds the lengths from points[k] to every point
+        (None: unreachable). One call of scipy's Dijkstra for every source not asked before."""
         cells = [self.cell(*p) for p in points]
-        rows: list[list[float | None]] = []
-        for c in cells:
-            if not self._free_cell(c):
-                rows.append([None] * len(cells))
-                continue
-            lengths = self._from(c)
-            rows.append([lengths.get(d) for d in cells])
-        return rows
+        rows = self._rows(cells)
+        return [[None] * len(cells) if row is None else [self._at(row, d) for d in cells] for row in rows]
 
     def lengths_from(self, a: Point, points: Sequence[Point]) -> list[float | None]:
         """``path_length`` from a to each of ``points``, with one Dijkstra."""
-        ca = self.cell(*a)
-        if not self._free_cell(ca):
+        (row,) = self._rows([self.cell(*a)])
+        if row is None:
             return [None] * len(points)
-        lengths = self._from(ca)
-        return [lengths.get(self.cell(*p)) for p in points]
+        return [self._at(row, self.cell(*p)) for p in points]
 
     def path(self, a: Point, b: Point) -> list[Point] | None:
         """A shortest path as the polyline of cell centres from a's cell to b's (both included),
@@ -273,9 +265,63 @@ class OccupancyGrid:
             self.bounds, self.obstacles + tuple(boxes), cell=self.cell_size, radius=self.radius
         )
 
-    def _from(self, c: Cell) -> dict[Cell, float]:
-        """Path lengths from cell c to every cell it reaches."""
-        return self._tree(c)[0]
+    def _rows(self, cells: Sequence[Cell]) -> list[np.ndarray | None]:
+        """Each free cell's path lengths to every free cell (by `_node` index; inf: unreachable),
+        None for a cell that is not free. The lengths of every map's facts and of the put-down
+        checks: networkx's Dijkstra took 8 of 28 s of a pybullet case III mission, in Python;
+        scipy's runs the same search in C over a sparse matrix of the same edges and weights
+        (docs/world.md). Rows are remembered like the trees."""
+        todo = sorted({c for c in cells if self._free_cell(c) and c not in self._lengths})
+        if todo:
+            if len(self._lengths) + len(todo) > 512:  # the robot's pose: a new source each step
+                self._lengths.clear()
+            found = dijkstra(self._matrix, directed=False, indices=[self._node[c] for c in todo])
+            for c, row in zip(todo, np.atleast_2d(found), strict=True):
+                self._lengths[c] = row
+        return [self._lengths.get(c) for c in cells]
+
+    def _at(self, row: np.ndarray, c: Cell) -> float | None:
+        if not self._free_cell(c):
+            return None
+        d = float(row[self._node[c]])
+        return d if math.isfinite(d) else None
+
+    @property
+    def _node(self) -> np.ndarray:
+        """Each cell's index among the free cells (in ``np.nonzero`` order), -1 elsewhere."""
+        if self._index is None:
+            index = np.full(self.shape, -1, dtype=np.int64)
+            index[self.mask] = np.arange(int(self.mask.sum()))
+            self._index = index
+        return self._index
+
+    @property
+    def _matrix(self) -> csr_matrix:
+        """The graph's edges (to higher neighbours, as ``graph``) as a sparse matrix of weights."""
+        if self._csr is None:
+            n_i, n_j = self.shape
+            node = self._node
+            diagonal = self.cell_size * math.sqrt(2)
+            rows, cols, weights = [], [], []
+            for di, dj, w in (
+                (1, 0, self.cell_size),
+                (0, 1, self.cell_size),
+                (1, 1, diagonal),
+                (1, -1, diagonal),
+            ):
+                i, j = np.nonzero(self.mask)
+                a, b = i + di, j + dj
+                ok = (a >= 0) & (a < n_i) & (b >= 0) & (b < n_j)
+                i, j, a, b = i[ok], j[ok], a[ok], b[ok]
+                ok = self.mask[a, b]
+                rows.append(node[i[ok], j[ok]])
+                cols.append(node[a[ok], b[ok]])
+                weights.append(np.full(int(ok.sum()), w))
+            n = int(self.mask.sum())
+            self._csr = csr_matrix(
+                (np.concatenate(weights), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
+            )
+        return self._csr
 
     def _tree(self, c: Cell) -> tuple[dict[Cell, float], dict[Cell, Cell]]:
         """Dijkstra from cell c: the length to every cell it reaches, and the cell before each on
