@@ -169,3 +169,40 @@ def test_competition_domains_keep_their_optimum(corpus, pair):
     small = plan(domain, problem, planner="optimal")
     assert full.status is small.status is Status.SOLVED
     assert small.score.cost == full.score.cost
+
+
+def _random_problem(seed: int) -> str:
+    """A random room for FETCH: 4-7 spots, one or two robots, 1-4 things, sometimes a robot
+    asked to end at a spot (the goal reads the place too)."""
+    rng = random.Random(seed)
+    spots = [f"s{i}" for i in range(rng.randint(4, 7))]
+    bots = [f"r{k}" for k in range(rng.randint(1, 2))]
+    things = [f"t{k}" for k in range(rng.randint(1, 4))]
+    xy = {s: (rng.uniform(0, 4), rng.uniform(0, 3.5)) for s in spots}
+    init = ["(= (total-cost) 0)", "(box-at b0 s1)", "(box-at b1 s2)"]
+    init += [f"(stands {r} {rng.choice(spots)}) (empty {r})" for r in bots]
+    init += [f"(lies {t} {rng.choice(spots)}) (fits {t} b{rng.randint(0, 1)})" for t in things]
+    for a, b in itertools.permutations(spots, 2):
+        init.append(f"(road {a} {b}) (= (length {a} {b}) {math.dist(xy[a], xy[b]):.2f})")
+    goal = [f"(boxed {t})" for t in things]
+    if rng.random() < 0.5:
+        goal.append(f"(stands r0 {rng.choice(spots)})")
+    return f"""(define (problem fetch-random-{seed}) (:domain fetch)
+  (:objects {" ".join(bots)} - bot {" ".join(spots)} - spot {" ".join(things)} - thing b0 b1 - box)
+  (:init {" ".join(init)})
+  (:goal (and {" ".join(goal)}))
+  (:metric minimize (total-cost)))"""
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_random_rooms_with_one_or_two_robots_keep_the_optimum(tmp_path, seed):
+    """Differential, on seeded random rooms: the same status and optimum either way (two robots:
+    each robot's runs of moves are merged, the other's moves are readers of nothing of it)."""
+    domain, problem = _read(tmp_path, FETCH, _random_problem(seed))
+    task = compile_task(domain, problem)
+    assert reduce_moves(task) is not None
+    full = plan(domain, problem, planner="optimal", reduce_moves=False)
+    small = plan(domain, problem, planner="optimal")
+    assert full.status is small.status is Status.SOLVED
+    moves = sum(s.name == "go" for s in small.steps)
+    assert full.score.cost <= small.score.cost <= full.score.cost + moves / task.scale + 1e-9
