@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import networkx as nx
 import numpy as np
+from scipy.ndimage import label as _label_components
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
@@ -89,8 +90,7 @@ class OccupancyGrid:
         self._lengths: dict[Cell, np.ndarray] = {}  # a source cell's lengths to every free cell
         self._index: np.ndarray | None = None
         self._csr: csr_matrix | None = None
-        self._component: dict[Cell, int] = {}  # cell -> its connected component's number
-        self._label: dict[Cell, int] | None = None  # every free cell's component (_labels)
+        self._label: np.ndarray | None = None  # every cell's component (_labels)
 
     # ------------------------------------------------------------------ cells and points
     def xy(self, i: int, j: int) -> Point:
@@ -155,84 +155,50 @@ class OccupancyGrid:
         return [self.xy(*c) for c in cells]
 
     def connected(self, a: Point, b: Point) -> bool:
-        """Whether a path joins a and b (a breadth-first search, remembered per component: much
-        cheaper than a path length when only reachability is asked)."""
+        """Whether a path joins a and b: the same component of the free cells."""
         ca, cb = self.cell(*a), self.cell(*b)
         if not (self._free_cell(ca) and self._free_cell(cb)):
             return False
-        if ca not in self._component:
-            number = len(set(self._component.values()))
-            self._component.update(dict.fromkeys(self._component_of(ca), number))
-        return self._component.get(cb) == self._component[ca]
+        return self._labels[ca] == self._labels[cb]
 
     def connected_without(self, box: Box, pairs: Sequence[tuple[Point, Point]]) -> list[bool]:
         """For each pair (a, b): would a path join them with ``box``, one of this grid's obstacles,
-        taken away? The same answers as ``connected`` on a new grid without it, from this grid's
-        components and the cells only ``box`` covers: a new grid per floor item cost seconds a
-        replan in a two-room floor."""
+        taken away? The same answers as ``connected`` on a new grid without it: the components of
+        this grid's free cells and the cells only ``box`` covers (a new grid per floor item cost
+        seconds a replan in a two-room floor)."""
         r = self.radius
         others = [b for b in self.obstacles if b != box]
         x0, x1, y0, y1 = self.bounds
         lo_i, lo_j = self.cell(box.cx - box.sx / 2 - r, box.cy - box.sy / 2 - r)
         hi_i, hi_j = self.cell(box.cx + box.sx / 2 + r, box.cy + box.sy / 2 + r)
-        freed: set[Cell] = set()
+        free = self.mask.copy()
         for i in range(max(lo_i, 0), min(hi_i + 1, self.shape[0])):
             for j in range(max(lo_j, 0), min(hi_j + 1, self.shape[1])):
                 x, y = self.xy(i, j)
                 if self.mask[i, j] or min(x - x0, x1 - x, y - y0, y1 - y) < r:
                     continue
                 if all(b.clearance(x, y) >= r for b in others):
-                    freed.add((i, j))
-        label = self._labels()
-        parent: dict = {}
-
-        def find(n):
-            while parent.get(n, n) != n:
-                n = parent[n]
-            return n
-
-        for c in freed:  # a freed cell joins its free and freed neighbours (8-connected)
-            for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)):
-                n = (c[0] + di, c[1] + dj)
-                other = ("cell", n) if n in freed else label.get(n)
-                if other is not None:
-                    parent[find(("cell", c))] = find(other)
-
-        def node(p: Point):
-            c = self.cell(*p)
-            return ("cell", c) if c in freed else label.get(c)
-
+                    free[i, j] = True
+        labels = _components(free)
         out = []
         for a, b in pairs:
-            na, nb = node(a), node(b)
-            out.append(na is not None and nb is not None and find(na) == find(nb))
+            ca, cb = self.cell(*a), self.cell(*b)
+            inside = all(0 <= c[0] < self.shape[0] and 0 <= c[1] < self.shape[1] for c in (ca, cb))
+            out.append(inside and labels[ca] != 0 and labels[ca] == labels[cb])
         return out
 
-    def _labels(self) -> dict[Cell, int]:
-        """Each free cell's connected component, by number (remembered: the grid never changes)."""
+    @property
+    def _labels(self) -> np.ndarray:
+        """Each cell's connected component of free cells (0: not free); remembered, since the
+        grid never changes."""
         if self._label is None:
-            self._label, number = {}, 0
-            for i, j in zip(*np.nonzero(self.mask), strict=True):
-                if (int(i), int(j)) not in self._label:
-                    self._label.update(dict.fromkeys(self._component_of((int(i), int(j))), number))
-                    number += 1
+            self._label = _components(self.mask)
         return self._label
 
-    def _component_of(self, start: Cell) -> set[Cell]:
-        """The free cells 8-connected to ``start`` (a free cell): the graph's component, by a
-        flood fill over the mask, so a grid asked only what is reachable never builds its graph
-        (at 96 objects each item's own grid did, 31 s a replan)."""
-        free = self.mask
-        n_i, n_j = self.shape
-        seen, todo = {start}, [start]
-        while todo:
-            i, j = todo.pop()
-            for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)):
-                c = (i + di, j + dj)
-                if c not in seen and 0 <= c[0] < n_i and 0 <= c[1] < n_j and free[c]:
-                    seen.add(c)
-                    todo.append(c)
-        return seen
+    def _component_of(self, start: Cell) -> list[Cell]:
+        """The free cells 8-connected to ``start`` (a free cell), in index order: its component
+        (no graph is built for it: at 96 objects each item's own grid did, 31 s a replan)."""
+        return [(int(i), int(j)) for i, j in np.argwhere(self._labels == self._labels[start])]
 
     def still_reaches(self, box: Box, a: Point, points: Sequence[Point]) -> bool:
         """Would the robot at ``a`` still reach every one of ``points`` with ``box`` added to the
@@ -249,15 +215,12 @@ class OccupancyGrid:
         start = self.cell(*a)
         if not (0 <= start[0] < self.shape[0] and 0 <= start[1] < self.shape[1] and free[start]):
             return False
-        seen, todo = {start}, [start]
-        while todo:
-            i, j = todo.pop()
-            for di, dj in ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)):
-                c = (i + di, j + dj)
-                if c not in seen and 0 <= c[0] < self.shape[0] and 0 <= c[1] < self.shape[1] and free[c]:
-                    seen.add(c)
-                    todo.append(c)
-        return all(self.cell(*p) in seen for p in points)
+        labels = _components(free)
+        for p in points:
+            c = self.cell(*p)
+            if not (0 <= c[0] < self.shape[0] and 0 <= c[1] < self.shape[1]) or labels[c] != labels[start]:
+                return False
+        return True
 
     def with_obstacles(self, boxes: Iterable[Box]) -> OccupancyGrid:
         """A new grid with ``boxes`` added (e.g. objects seen on the floor); this one is unchanged."""
@@ -348,7 +311,7 @@ class OccupancyGrid:
         start = self.cell(*reachable_from)
         if not self._free_cell(start):
             return []
-        return sorted(self._component_of(start))
+        return self._component_of(start)
 
     def _free_mask(self) -> np.ndarray:
         """Cells whose centre is at least the radius from every wall and obstacle box.
@@ -400,3 +363,13 @@ class OccupancyGrid:
                 if 0 <= a < n_i and 0 <= b < n_j and self.mask[a, b]:
                     g.add_edge((int(i), int(j)), (int(a), int(b)), weight=w)
         return nx.freeze(g)  # like the mask: shared maps must not be edited behind callers
+
+
+_EIGHT = np.ones((3, 3), dtype=bool)  # a cell's eight neighbours: the graph's steps
+
+
+def _components(free: np.ndarray) -> np.ndarray:
+    """Each cell's 8-connected component of ``free`` cells, numbered from 1 (0: not free): the
+    graph's components, by scipy's labelling in C (a flood fill in Python took 1-3 s a mission)."""
+    labels, _count = _label_components(free, structure=_EIGHT)
+    return labels
