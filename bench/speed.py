@@ -1,6 +1,6 @@
 """How much faster than real time a headless pybullet mission runs.
 
-    python bench/speed.py [--scenario problems/case3.toml] [--seeds 1] [--planner lama]
+    python bench/speed.py [--scenario problems/case3.toml] [--seeds 1] [--planner lama] [--patience S]
 
 Runs O-FSM in the pybullet world (DIRECT mode, no window) and prints, per run, the simulated
 seconds, the wall seconds, their ratio (the issue's goal: at least 50x for case III), and how
@@ -26,6 +26,7 @@ def main() -> int:
     ap.add_argument("--first-seed", type=int, default=0)
     ap.add_argument("--planner", default="lama")
     ap.add_argument("--time-budget", type=float, default=1.0)
+    ap.add_argument("--patience", type=float, default=0.0, help="tidyplan run's --patience (0: off)")
     args = ap.parse_args()
     from tidyplan.mission import Settings, run
 
@@ -34,7 +35,12 @@ def main() -> int:
     for seed in range(args.first_seed, args.first_seed + args.seeds):
         trace = out / f"speed-s{seed}.jsonl"
         settings = Settings(
-            "ofsm", seed, planner=args.planner, time_budget=args.time_budget, world="pybullet"
+            "ofsm",
+            seed,
+            planner=args.planner,
+            time_budget=args.time_budget,
+            patience=args.patience or None,
+            world="pybullet",
         )
         s = run(args.scenario, trace, settings)
         planning = sum(

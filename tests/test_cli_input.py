@@ -107,6 +107,8 @@ def test_compile_out_that_is_a_file_is_bad_input_not_a_traceback(write, tmp_path
             r"tidyplan plan: error: .*--first-plan-limit.*",
         ),
         (["run", "--first-plan-limit", "-2"], r"tidyplan run: error: .*--first-plan-limit.*"),
+        (["run", "--patience", "-0.5"], r"tidyplan run: error: .*--patience.*"),
+        (["run", "--patience", "inf"], r"tidyplan run: error: .*--patience.*"),
         (
             ["compile", "d.pddl", "p.pddl", "--out", "o", "--max-stratum", "0"],
             r"tidyplan compile: error: .*--max-stratum.*",
@@ -119,6 +121,8 @@ def test_compile_out_that_is_a_file_is_bad_input_not_a_traceback(write, tmp_path
         "max-stratum-0",
         "first-plan-limit-0",
         "run-first-plan-limit-negative",
+        "run-patience-negative",
+        "run-patience-inf",
         "compile-max-stratum-0",
         "unknown-planner",
     ],

@@ -28,6 +28,7 @@ def test_the_shipped_domain_and_scenarios_are_found_from_the_package():
         ({"max_recovery": -1}, "max_recovery: -1 is negative"),
         ({"first_plan_limit": 0}, "first_plan_limit: 0 is not a positive number of seconds"),
         ({"time_budget": float("nan")}, "time_budget: nan is not a positive number of seconds"),
+        ({"patience": -1.0}, "patience: -1.0 is not a number of seconds >= 0"),
         ({"faults": "grasp_drop=2"}, "--faults: grasp_drop=2: the rate must be in [0, 1]"),
         ({"planner": "no-such-planner"}, "no-such-planner"),
     ],

@@ -5,7 +5,9 @@ Kept apart from cli.py (check/plan/compile) so each stays small; cli.py register
 
 from __future__ import annotations
 
+import argparse
 import json
+import math
 import sys
 import time
 from pathlib import Path
@@ -71,7 +73,15 @@ def add_parsers(sub, positive) -> None:
         type=positive,
         default=1.0,
         metavar="SECONDS",
-        help="seconds the anytime planner improves each (re)plan's first plan (default 1.0)",
+        help="seconds the anytime planner improves each (re)plan's first plan, at most (default 1.0)",
+    )
+    r.add_argument(
+        "--patience",
+        type=_seconds,
+        default=0.0,
+        metavar="SECONDS",
+        help="end the improvement once no cheaper plan came for this long (default 0: never; "
+        "faster, and at times worse plans: docs/planner.md)",
     )
     r.add_argument(
         "--first-plan-limit",
@@ -110,6 +120,17 @@ def add_parsers(sub, positive) -> None:
     rp.add_argument("--time-budget", type=positive, default=1.0, metavar="SECONDS")
     rp.add_argument("--out", default="runs", metavar="DIR", help="folder for the traces (default runs/)")
     rp.add_argument("--json", action="store_true")
+
+
+def _seconds(text: str) -> float:
+    """A number of seconds, 0 allowed (`--patience 0`: improve for the whole budget)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0 <= value < math.inf:
+        raise argparse.ArgumentTypeError(f"must be a number of seconds >= 0: {text!r}")
+    return value
 
 
 def parse_faults(text: str):
@@ -183,6 +204,7 @@ def cmd_run(args) -> int:
         planner=args.planner,
         faults=args.faults,
         time_budget=args.time_budget,
+        patience=args.patience,
         first_plan_limit=args.first_plan_limit,
         min_probability=args.min_probability,
         max_recovery=args.max_recovery,

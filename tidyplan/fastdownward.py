@@ -199,12 +199,18 @@ def sas_text(sas_task) -> str:
 
 
 # ---------------------------------------------------------------------- search
-def search(sas: str, searches: Sequence[Search], first_deadline: float, improve: float) -> Result:
+def search(
+    sas: str, searches: Sequence[Search], first_deadline: float, improve: float, patience: float | None = None
+) -> Result:
     """Run the searches side by side (one process each) on one SAS task.
 
     The first plan is sought until `first_deadline` (a `time.perf_counter()` time); after the
-    first plan of any search, `improve` seconds more. A search that ends with a plan it cannot
-    improve (a non-anytime search, or an anytime one that finished) ends the call: with more
+    first plan of any search, `improve` seconds more. With `patience`, where every search is
+    anytime, the improvement also ends once no cheaper plan has come for `patience` seconds: LAMA
+    on a mission's replans mostly finds its plans in the first tenths of a second and then none
+    (docs/planner.md), and the robot waits for every second it deliberates. A search that ends
+    with a plan it cannot improve (a non-anytime search, or an anytime one that finished) ends
+    the call: with more
     than one search, the first listed that ended so wins (the optimal search beside LAMA), else
     the cheapest plan found.
     """
@@ -215,7 +221,7 @@ def search(sas: str, searches: Sequence[Search], first_deadline: float, improve:
         sas_path = os.path.join(tmp, "output.sas")
         with open(sas_path, "w", encoding="ascii", errors="replace") as f:
             f.write(sas)
-        result = _search(sas_path, tmp, searches, first_deadline, improve)
+        result = _search(sas_path, tmp, searches, first_deadline, improve, patience)
     result.search_s = time.perf_counter() - start
     return result
 
@@ -289,12 +295,12 @@ def _read_plan(path: str, at: float) -> Plan | None:
     return Plan(actions, int(cost.group(1)), at)
 
 
-def _search(sas_path: str, tmp: str, searches: Sequence[Search], first_deadline: float, improve: float):
+def _search(sas_path: str, tmp: str, searches, first_deadline: float, improve: float, patience: float | None):
     running: list[_Running] = []
     try:
         for i, s in enumerate(searches):
             running.append(_Running(i, s, sas_path, tmp))
-        result = _follow(running, first_deadline, improve)
+        result = _follow(running, first_deadline, improve, patience)
     finally:
         for r in running:
             r.stop()
@@ -303,8 +309,11 @@ def _search(sas_path: str, tmp: str, searches: Sequence[Search], first_deadline:
     return result
 
 
-def _follow(running: list[_Running], first_deadline: float, improve: float) -> Result:
+def _follow(running: list[_Running], first_deadline: float, improve: float, patience: float | None) -> Result:
     first_at: float | None = None
+    best, best_at = None, 0.0  # the cheapest plan so far, and when it came
+    if not all(r.search.anytime for r in running):
+        patience = None  # an optimal search beside LAMA is waited for: its plan ends the call
     while True:
         for r in running:
             r.poll_plans()
@@ -322,6 +331,8 @@ def _follow(running: list[_Running], first_deadline: float, improve: float) -> R
         found = [p for r in running for p in r.plans]
         if found and first_at is None:
             first_at = time.perf_counter()
+        if found and (best is None or min(p.cost for p in found) < best):
+            best, best_at = min(p.cost for p in found), time.perf_counter()
         if all(code is not None for code in codes):
             return _ended(running, codes, found)
         now = time.perf_counter()
@@ -329,6 +340,8 @@ def _follow(running: list[_Running], first_deadline: float, improve: float) -> R
             first_at is None and now >= first_deadline
         ):
             break
+        if patience is not None and best is not None and now >= best_at + patience:
+            break  # no cheaper plan for `patience` seconds
         _wait(POLL)
     for r in running:
         r.poll_plans()

@@ -12,6 +12,7 @@ line prints; a mission that fails is a summary with ``success`` False, not an ex
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
@@ -65,6 +66,7 @@ def run(
     planner: str | None = None,
     faults: str = "",
     time_budget: float = 1.0,
+    patience: float = 0.0,
     first_plan_limit: float = 60.0,
     min_probability: float = 1e-4,
     max_recovery: int = 3,
@@ -102,6 +104,8 @@ def run(
             raise InputError(f"{name(key)}: {value} is not a positive number of seconds")
     if max_recovery < 0:
         raise InputError(f"{name('max_recovery')}: {max_recovery} is negative")
+    if not 0 <= patience < math.inf:  # 0: improve for the whole time budget
+        raise InputError(f"{name('patience')}: {patience} is not a number of seconds >= 0")
     if not isinstance(scenario, Scenario):
         shipped = project_file(f"problems/{scenario}.toml") if "/" not in str(scenario) else None
         scenario = _scenario(shipped if shipped is not None and shipped.exists() else scenario)
@@ -119,6 +123,7 @@ def run(
         seed,
         planner=planner,
         time_budget=time_budget,
+        patience=patience or None,
         first_plan_limit=first_plan_limit,
         min_probability=min_probability,
         rates=parse_faults(faults),

@@ -124,6 +124,7 @@ def plan(
     first_plan_limit: float = DEFAULT_FIRST_PLAN_LIMIT,
     grounder: grounding.Grounder | None = None,
     reduce_moves: bool = True,
+    patience: float | None = None,
 ) -> PlanResult:
     """One plan for the task, ranked by strata, then by the criterion.
 
@@ -139,6 +140,9 @@ def plan(
     what the O-FSM ranking would cost, for comparison. `escalate_unproven=False`: a stratum whose
     incomplete search ended without a plan ends the call (status UNKNOWN) instead of handing
     over to the next (`tidyplan.strata.plan_by_strata`); running out of time always ends it.
+
+    With `patience`, an anytime engine's improvement also ends once no cheaper plan has come for
+    that many seconds (`tidyplan.fastdownward.search`; never while an optimal search runs beside).
 
     With `reduce_moves`, a domain's pure moves go only to where there is work
     (`tidyplan.moves`: the same optimum, far fewer states); plans come back in the task's words.
@@ -165,7 +169,7 @@ def plan(
 
         if engine.searches:
             outcome, steps, first, plans = _solve_direct(
-                sub, read_back, engine, deadline, time_budget, grounder, messages, phases
+                sub, read_back, engine, deadline, (time_budget, patience), grounder, messages, phases
             )
         else:
             outcome, steps, first, plans = _solve_up(sub, read_back, engine, deadline, messages, phases)
@@ -227,7 +231,7 @@ _ENDINGS = {
 }
 
 
-def _solve_direct(sub, read_back, engine: Engine, deadline: float, improve: float, grounder, messages, phases):  # noqa: E501
+def _solve_direct(sub, read_back, engine: Engine, deadline: float, improve, grounder, messages, phases):
     """Ground the compiled task with the loop's grounder, or translate it (one task alone, or one
     outside the grounder's fragment), then run the engine's searches. Returns (outcome, steps,
     when the first plan came (a time.perf_counter() time, or None), how many plans came)."""
@@ -256,12 +260,12 @@ def _solve_direct(sub, read_back, engine: Engine, deadline: float, improve: floa
         if why and why not in messages:
             messages.append(why)
     t2 = time.perf_counter()
-    result = fastdownward.search(sas, engine.searches, deadline, improve)
+    result = fastdownward.search(sas, engine.searches, deadline, *improve)
     if result.ending is fastdownward.Ending.UNSUPPORTED and engine.fallback:
         messages.append(
             f"{engine.about.split(':')[0]} refused the task ({result.message}); used {engine.fallback}"
         )
-        result = fastdownward.search(sas, ENGINES[engine.fallback].searches, deadline, improve)
+        result = fastdownward.search(sas, ENGINES[engine.fallback].searches, deadline, *improve)
     _add(phases, "search", time.perf_counter() - t2)
     found = (result.first_plan_at, result.plans_found)
     if result.plan is not None:
