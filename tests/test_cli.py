@@ -45,7 +45,7 @@ def test_plan_json_has_the_contract_fields(capsys):
 def test_not_found_in_time_exits_3_and_says_so(capsys, monkeypatch):
     from tidyplan import fastdownward
 
-    def out_of_time(sas, searches, first_deadline, improve):
+    def out_of_time(sas, searches, first_deadline, improve, patience=None):
         return fastdownward.Result(fastdownward.Ending.OUT_OF_TIME, None)
 
     monkeypatch.setattr(fastdownward, "search", out_of_time)

@@ -144,7 +144,7 @@ def _searches_ending(monkeypatch, ending):
 
     calls = []
 
-    def search(sas, searches, first_deadline, improve):
+    def search(sas, searches, first_deadline, improve, patience=None):
         calls.append(sas)
         return fastdownward.Result(ending, None)
 
