@@ -226,6 +226,8 @@ def write(
         ";; Waypoints (name kind x y):",
         *(f";;   {n} {facts.kind[n]} {_xy(facts.points[n])}" for n in sorted(facts.points)),
         *([f";; Out of reach (no grasp pose): {' '.join(facts.unreachable)}"] if facts.unreachable else []),
+        ";; Items as believed (name category state x y):",  # read by tidyplan trace --html
+        *(f";;   {k.name} {k.category} {k.state} {_xy((k.x, k.y))}" for k in seen),
     )
     state = frozenset(tuple([a.predicate, *a.args]) for a in problem.init)
     return Snapshot(problem, header, facts, tuple(goal), tuple(virtual), robot_wp, removal, state)

@@ -71,7 +71,7 @@ def plot(trace: Trace, out: str | os.PathLike, scenario=None, warn: Warn = lambd
     ``sim.scenario.Scenario``) overrides the one the trace names; without either, the map has
     the path alone and ``warn`` says why."""
     if scenario is None:
-        scenario = _scenario(trace, warn)
+        scenario = scenario_of(trace, warn)
     fig = plt.figure(figsize=(10, 11), dpi=100, layout="constrained")
     grid = fig.add_gridspec(2, 1, height_ratios=(2.6, 1.4))
     room, timeline = fig.add_subplot(grid[0]), fig.add_subplot(grid[1])
@@ -94,7 +94,8 @@ def _title(s: dict) -> str:
     )
 
 
-def _scenario(trace: Trace, warn: Warn):
+def scenario_of(trace: Trace, warn: Warn):
+    """The scenario the trace names (``start.scenario_file``), or None with ``warn`` saying why."""
     from sim.scenario import ScenarioError
     from sim.scenario_file import load
 
@@ -237,7 +238,7 @@ def _timeline(ax, trace: Trace) -> None:
         ax.broken_barh(
             [span], (y["action"] - 0.4, 0.8), facecolor=ACTION_COLOURS.get(last, "#cccccc"), edgecolor=edge
         )
-    for unit, start, stop, ok in _unit_runs(trace):
+    for unit, start, stop, ok in unit_runs(trace):
         if unit in y:
             edge = "#c00000" if not ok else "#666666"
             ax.broken_barh(
@@ -278,7 +279,7 @@ def _plan(i: int) -> str:
     return PLAN_COLOURS[i % len(PLAN_COLOURS)]
 
 
-def _unit_runs(trace: Trace) -> list[tuple[str, float, float, bool]]:
+def unit_runs(trace: Trace) -> list[tuple[str, float, float, bool]]:
     """Each run of a behaviour unit as (unit, start, stop, ok): it starts at the clock of the
     event before its ``check`` (a navigate retry's look, written as ``observe``, is part of its
     check) and stops at its ``do`` or at the function that failed."""
