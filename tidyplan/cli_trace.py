@@ -1,14 +1,17 @@
-"""`tidyplan trace`: the story of a run from its trace, its plot, a replan's diff, runs compared.
+"""`tidyplan trace`: the story of a run from its trace, its plot, its replay page, a replan's
+diff, runs compared.
 
 Reading and figures are tidyplan/trace_read.py, the replan diff tidyplan/trace_diff.py, the
-picture tidyplan/trace_plot.py; this module parses the options and prints. A file that is not
-a trace is bad input (exit 2, one line); a damaged trace is read with a warning on stderr.
+picture tidyplan/trace_plot.py, the page tidyplan/trace_html.py; this module parses the options
+and prints. A file that is not a trace is bad input (exit 2, one line); a damaged trace is read
+with a warning on stderr. The page never replaces a file unless asked to (``--force``).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 
 from rich.console import Console
@@ -31,6 +34,12 @@ def add_parser(sub) -> None:
         "--replan", type=_count, metavar="N", help="the problem and plan of replan N, and what changed"
     )
     t.add_argument(
+        "--html",
+        metavar="OUT",
+        help="write one self-contained page that replays the run in a browser (works offline)",
+    )
+    t.add_argument("--force", action="store_true", help="with --html: replace OUT if it exists")
+    t.add_argument(
         "--scenario", metavar="FILE", help="the scenario to draw (default: the one the trace names)"
     )
 
@@ -42,13 +51,15 @@ def _count(text: str) -> int:
 
 
 def cmd_trace(args) -> int:
-    if len(args.files) > 1 and (args.plot or args.replan is not None):
-        raise InputError("--plot and --replan: give one trace (several are compared side by side)")
+    if len(args.files) > 1 and (args.plot or args.html or args.replan is not None):
+        raise InputError("--plot, --html and --replan: give one trace (several are compared side by side)")
     traces = [read_trace(f) for f in args.files]
     for t in traces:
         for w in t.warnings:
             print(w, file=sys.stderr)
-    if args.plot:  # first: a plot that cannot be written is bad input, before anything is printed
+    if args.html:  # first: a page or plot that cannot be written is bad input, before anything is printed
+        _html(traces[0], args.html, args.scenario, args.force)
+    if args.plot:
         _plot(traces[0], args.plot, args.scenario)
     out = _console()
     if len(traces) > 1:
@@ -66,20 +77,48 @@ def cmd_trace(args) -> int:
 def _plot(trace: Trace, out: str, scenario_file: str | None) -> None:
     from tidyplan.trace_plot import plot  # matplotlib loads only when a plot is asked for
 
-    scenario = None
-    if scenario_file:
-        from sim.scenario import ScenarioError
-        from sim.scenario_file import load
-
-        try:
-            scenario = load(scenario_file)
-        except ScenarioError as e:
-            raise InputError([Diagnostic(m, None, None, "") for m in e.messages]) from None
+    scenario = _scenario(scenario_file)
     try:
         plot(trace, out, scenario, warn=lambda m: print(f"{trace.path}: warning: {m}", file=sys.stderr))
     except OSError as e:
         raise InputError(Diagnostic(out, None, None, f"cannot write the plot: {e.strerror or e}")) from None
     print(f"wrote {out}", file=sys.stderr)
+
+
+def _html(trace: Trace, out: str, scenario_file: str | None, force: bool) -> None:
+    from tidyplan.trace_html import write_page
+
+    if os.path.isdir(out):
+        raise InputError(Diagnostic(out, None, None, "is a directory; --html names the page's file"))
+    if os.path.exists(out) and os.path.samefile(out, trace.path):
+        raise InputError(Diagnostic(out, None, None, "is the trace itself; choose another --html file"))
+    if os.path.exists(out) and not force:
+        raise InputError(Diagnostic(out, None, None, "exists; --force replaces it"))
+    folder = os.path.dirname(os.path.abspath(out))
+    if not os.path.isdir(folder) or not os.access(folder, os.W_OK):  # said before the page is made
+        why = "no such folder" if not os.path.isdir(folder) else "the folder is not writable"
+        raise InputError(Diagnostic(out, None, None, f"cannot write the page: {why}"))
+    scenario = _scenario(scenario_file)
+    try:
+        size = write_page(
+            trace, out, scenario, warn=lambda m: print(f"{trace.path}: warning: {m}", file=sys.stderr)
+        )
+    except OSError as e:
+        raise InputError(Diagnostic(out, None, None, f"cannot write the page: {e.strerror or e}")) from None
+    print(f"wrote {out} ({size / 1e6:.2f} MB): open it in a browser", file=sys.stderr)
+
+
+def _scenario(scenario_file: str | None):
+    """The scenario ``--scenario`` names, or None (the trace's own is used)."""
+    if not scenario_file:
+        return None
+    from sim.scenario import ScenarioError
+    from sim.scenario_file import load
+
+    try:
+        return load(scenario_file)
+    except ScenarioError as e:
+        raise InputError([Diagnostic(m, None, None, "") for m in e.messages]) from None
 
 
 def _console() -> Console:
