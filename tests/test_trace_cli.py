@@ -28,7 +28,9 @@ CONTRACT = (
     "replans replan_causes actions strata recoveries distance_m sim_time_s wall_time_s success "
     "objects delivered lost_objects"
 ).split()
-COUNTS = "replans replan_causes actions strata recoveries replans_avoided delivered objects success".split()
+COUNTS = (
+    "replans replan_causes actions strata recoveries replans_avoided delivered objects success wrs_score"
+).split()
 
 
 def _mission(folder: Path, name: str, **settings) -> tuple[Path, dict]:

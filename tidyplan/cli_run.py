@@ -12,6 +12,7 @@ import sys
 import time
 from pathlib import Path
 
+from tidyplan.engines import MISSION_PATIENCE
 from tidyplan.errors import Diagnostic, InputError
 from tidyplan.strata import STRATEGIES  # not the loop: `tidyplan check` must not load the planner stack
 from tidyplan.trace_read import delivers
@@ -78,10 +79,10 @@ def add_parsers(sub, positive) -> None:
     r.add_argument(
         "--patience",
         type=_seconds,
-        default=0.0,
+        default=MISSION_PATIENCE,
         metavar="SECONDS",
-        help="end the improvement once no cheaper plan came for this long (default 0: never; "
-        "faster, and at times worse plans: docs/planner.md)",
+        help="end the improvement once no cheaper plan came for this long "
+        f"(default {MISSION_PATIENCE:g}; 0: improve for the whole budget; docs/planner.md)",
     )
     r.add_argument(
         "--first-plan-limit",
@@ -105,6 +106,14 @@ def add_parsers(sub, positive) -> None:
         default=3,
         metavar="N",
         help="recovery iterations for one failing behaviour unit before the planner replans (default 3)",
+    )
+    r.add_argument(
+        "--time-limit",
+        type=positive,
+        default=900.0,
+        metavar="SECONDS",
+        help="simulated seconds the WRS referee allows, for the score (default 900: the rulebook's "
+        "15 minutes); the mission itself runs on",
     )
     r.add_argument("--gui", action="store_true", help="open the pybullet window (pybullet world only)")
     r.add_argument("--json", action="store_true", help="print the summary as one JSON object, last")
@@ -208,6 +217,7 @@ def cmd_run(args) -> int:
         first_plan_limit=args.first_plan_limit,
         min_probability=args.min_probability,
         max_recovery=args.max_recovery,
+        time_limit=args.time_limit,
         domain=args.domain,
         trace=trace,
         gui=args.gui,
@@ -267,6 +277,7 @@ def _print_summary(s: dict) -> None:
         f"distance {s['distance_m']} m, simulated time {s['sim_time_s']} s, wall time {s['wall_time_s']} s, "
         f"replanning median {s['replan_time_s']['median']} s, max {s['replan_time_s']['max']} s"
     )
+    print(f"WRS score {s['wrs_score']:g} (time limit {s['time_limit_s']:g} s simulated)")
     print(f"trace {s['trace']}")
 
 

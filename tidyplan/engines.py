@@ -79,6 +79,10 @@ DEFAULT_ENGINE = "lama-optimal"
 # A mission's problems leave (shortest-paths) out (docs/planner.md): with every move open the
 # optimal search needs about 2 s, so it would only take the simulation's core.
 MISSION_ENGINE = "lama"
+# ... whose improvement a mission ends once no cheaper plan came for this many seconds: on 36
+# problems of missions (bench/patience.py) 35 plans were as good as with the whole 1 s and the
+# worst was 3.1% dearer, in a median 0.60 s instead of 1.10 s; 0.25 s lost on 4 of 36.
+MISSION_PATIENCE = 0.5
 
 
 def engine_names() -> list[str]:

@@ -16,6 +16,7 @@ import math
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
+from tidyplan.engines import MISSION_PATIENCE
 from tidyplan.errors import InputError, PlannerError
 from tidyplan.worlds import WORLDS
 
@@ -48,6 +49,8 @@ class Summary:
     wall_time_s: float
     replan_time_s: dict[str, float]  # median, max
     trace: str | None  # the trace's path; None when none was written
+    wrs_score: float  # the WRS Tidy Up score (tidyplan.wrs) within time_limit_s
+    time_limit_s: float  # simulated seconds the WRS referee allows
 
     @classmethod
     def from_dict(cls, d: dict) -> Summary:
@@ -66,10 +69,11 @@ def run(
     planner: str | None = None,
     faults: str = "",
     time_budget: float = 1.0,
-    patience: float = 0.0,
+    patience: float = MISSION_PATIENCE,
     first_plan_limit: float = 60.0,
     min_probability: float = 1e-4,
     max_recovery: int = 3,
+    time_limit: float = 900.0,
     domain: str | Path | None = None,
     trace: str | Path | None = None,
     gui: bool = False,
@@ -99,7 +103,11 @@ def run(
         raise InputError(f"{name('strategy')}: {strategy!r} is not one of {', '.join(STRATEGIES)}")
     if gui and world != "pybullet":
         raise InputError(f"{name('gui')}: only the pybullet world has a window")
-    for key, value in (("time_budget", time_budget), ("first_plan_limit", first_plan_limit)):
+    for key, value in (
+        ("time_budget", time_budget),
+        ("first_plan_limit", first_plan_limit),
+        ("time_limit", time_limit),
+    ):
         if not value > 0:
             raise InputError(f"{name(key)}: {value} is not a positive number of seconds")
     if max_recovery < 0:
@@ -130,6 +138,7 @@ def run(
         max_recovery=max_recovery,
         world=world,
         gui=gui,
+        time_limit=time_limit,
     )
     return Summary.from_dict(run_mission(scenario, trace, settings, domain_file, on_event=on_event))
 

@@ -262,6 +262,9 @@ def _from_events(trace: Trace) -> dict:
     delivered = sum(str(v[0]).startswith("tidied") for v in places.values()) if places else len(tidied)
     checks = trace.of("assumption")
     last = trace.events[-1]
+    from tidyplan.wrs import TIME_LIMIT_S, wrs_score  # it reads `delivers` from here
+
+    limit = start.get("time_limit_s", TIME_LIMIT_S)
     return {
         "file": str(trace.path),
         "schema": trace.version,
@@ -299,6 +302,8 @@ def _from_events(trace: Trace) -> dict:
         "replan_time_s": {"median": round(median(times), 3), "max": round(max(times), 3)}
         if times
         else {"median": 0.0, "max": 0.0},
+        "wrs_score": wrs_score(trace.events, limit),
+        "time_limit_s": limit,
         "plans": plan_rows(trace),
         "warnings": [str(w) for w in trace.warnings],
     }

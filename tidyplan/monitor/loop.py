@@ -60,6 +60,9 @@ class LoopConfig:
     # time replanned and tried again, will not go (the world has a reason the belief lacks).
     # The item it acts on is given up and the rest tidied; an action on no item ends the mission.
     max_same_failure: int = 5
+    # The referee's time limit in simulated seconds (WRS task 1: 15 minutes), written in the start
+    # event for readers that score the run (tidyplan.wrs); the loop itself does not stop at it.
+    time_limit_s: float = 900.0
 
 
 @dataclass(slots=True)
@@ -114,6 +117,7 @@ class Mission(Planning):
             scenario=scenario.name,
             scenario_file=os.path.abspath(scenario.path) if os.path.isfile(scenario.path) else scenario.path,
             robot=list(map(_r, self.belief.robot)),
+            time_limit_s=self.config.time_limit_s,
         )
         self._observe(self.world.look(), "wp-entrance")
         reason = self._replan(Cause.INITIAL)
@@ -123,7 +127,12 @@ class Mission(Planning):
         escaped = self.world.escaped()
         if escaped:  # the simulation's fault, not the robot's: reported, never counted as lost
             self.trace.emit("sim_fault", what="objects outside the room", items=escaped)
-        self.trace.emit("end", success=success, reason=reason, items=self._true_places(), escaped=escaped)
+        places = self._true_places()
+        # tidied, but into another category's deposit: the referee's verdict, for the WRS score
+        misplaced = [n for n in self.world.untidied() if places[n][0].startswith("tidied")]
+        self.trace.emit(
+            "end", success=success, reason=reason, items=places, escaped=escaped, misplaced=misplaced
+        )
         return Outcome(success, reason, self.count)
 
     def _tick(self) -> str | None:

@@ -1,0 +1,63 @@
+"""The WRS Tidy Up score (../shared/HSR.md, "Scoring") counted from trace events (tidyplan/wrs.py)."""
+
+from __future__ import annotations
+
+from tidyplan.wrs import WrsTally, wrs_score
+
+
+def _start(n: int = 2) -> dict:
+    return {"kind": "start", "sim_s": 0.0, "expected": {"food": n}}
+
+
+def _take(item: str, t: float) -> dict:
+    step = f"(take_object {item} wp)"
+    return {"kind": "action", "sim_s": t, "ok": True, "action": step, "units": ["grasp"]}
+
+
+def _deliver(item: str, t: float) -> dict:
+    return {
+        "kind": "action",
+        "sim_s": t,
+        "ok": True,
+        "action": f"(deliver_it {item} tray wp-tray food)",
+        "units": ["approach_deposit", "place"],
+        "delivered": item,
+    }
+
+
+def _drop(t: float) -> dict:
+    return {"kind": "recovery", "sim_s": t, "failure": "grasp_drop", "layer": "insert_unit"}
+
+
+def _end(success: bool = True, misplaced=()) -> dict:
+    items = {"apple": ["tidied:tray", 0, 0], "banana": ["tidied:tray", 0, 0]}
+    return {"kind": "end", "sim_s": 500.0, "success": success, "items": items, "misplaced": list(misplaced)}
+
+
+def test_wrs_20_points_per_object_in_its_category_and_50_when_all_are_put_away():
+    events = [_start(), _take("a", 10), _deliver("a", 20), _take("b", 30), _deliver("b", 40), _end()]
+    assert wrs_score(events) == 2 * 20 + 50
+
+
+def test_wrs_a_drop_halves_that_objects_points_only():
+    events = [_start(), _take("a", 10), _drop(15), _drop(16), _deliver("a", 20)]
+    events += [_take("b", 30), _deliver("b", 40), _end()]
+    assert wrs_score(events) == 20 / 4 + 20 + 50
+
+
+def test_wrs_a_delivery_after_the_time_limit_scores_nothing_and_loses_the_bonus():
+    events = [_start(), _take("a", 10), _deliver("a", 20), _take("b", 30), _deliver("b", 950), _end()]
+    assert wrs_score(events, time_limit_s=900) == 20
+    assert wrs_score(events, time_limit_s=1000) == 90
+
+
+def test_wrs_a_deposit_of_another_category_earns_10_and_no_bonus():
+    events = [_start(), _take("a", 10), _deliver("a", 20), _take("b", 30), _deliver("b", 40)]
+    assert wrs_score([*events, _end(misplaced=["banana"])]) == 30
+
+
+def test_wrs_a_killed_run_scores_what_it_deposited_so_far():
+    tally = WrsTally()
+    for e in [_start(), _take("a", 10), _deliver("a", 20), _take("b", 30)]:
+        tally.see(e)
+    assert tally.score() == 20
