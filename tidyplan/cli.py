@@ -1,5 +1,5 @@
 """The `tidyplan` command: check, plan, compile (here), run and reproduce (cli_run.py), trace
-(cli_trace.py).
+(cli_trace.py), sweep (cli_sweep.py).
 
 Only this module turns errors into exit statuses: 0 success, 1 no plan (proven, or an incomplete
 search ended without one: the message says which), 2 bad input (a file, an option), 3 no plan
@@ -17,7 +17,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from . import cli_run, cli_trace
+from . import cli_run, cli_sweep, cli_trace
 from .errors import Diagnostic, InputError, PlannerError, TidyplanError
 
 COMPILED_HEADER = "; plain PDDL compiled by tidyplan"
@@ -78,6 +78,7 @@ def _parser() -> argparse.ArgumentParser:
     co.add_argument("--force", action="store_true", help="overwrite files there that tidyplan did not write")
     cli_run.add_parsers(sub, _positive)
     cli_trace.add_parser(sub)
+    cli_sweep.add_parser(sub, _positive)
     return p
 
 
@@ -261,6 +262,7 @@ COMMANDS = {
     "run": cli_run.cmd_run,
     "reproduce": cli_run.cmd_reproduce,
     "trace": cli_trace.cmd_trace,
+    "sweep": cli_sweep.cmd_sweep,
 }
 
 
