@@ -9,6 +9,7 @@ import os
 import sys
 from pathlib import Path
 
+from tidyplan.engines import MISSION_ENGINE, MISSION_PATIENCE
 from tidyplan.errors import InputError
 from tidyplan.strata import STRATEGIES
 from tidyplan.worlds import WORLDS
@@ -28,7 +29,9 @@ def add_parser(sub, positive) -> None:
         metavar="K=V,...;K=V,...",
         help="fault conditions, ';' between them (tidyplan run's --faults each; '' or none: the baseline)",
     )
-    s.add_argument("--planner", default="lama", metavar="NAME,...", help="planners (default lama)")
+    s.add_argument(
+        "--planner", default=MISSION_ENGINE, metavar="NAME,...", help=f"planners (default {MISSION_ENGINE})"
+    )
     s.add_argument("--world", choices=tuple(WORLDS), default="pybullet")
     s.add_argument(
         "--time-limit",
@@ -38,7 +41,13 @@ def add_parser(sub, positive) -> None:
         help="simulated seconds the WRS referee allows, for the score (default 900)",
     )
     s.add_argument("--time-budget", type=positive, default=1.0, metavar="SECONDS")
-    s.add_argument("--patience", type=float, default=0.0, metavar="SECONDS")
+    s.add_argument(
+        "--patience",
+        type=float,
+        default=MISSION_PATIENCE,
+        metavar="SECONDS",
+        help=f"tidyplan run's --patience (default {MISSION_PATIENCE:g}; 0: the whole budget)",
+    )
     s.add_argument(
         "--mission-limit",
         type=positive,

@@ -20,6 +20,7 @@ import tempfile
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
+from tidyplan.engines import MISSION_ENGINE, MISSION_PATIENCE
 from tidyplan.errors import InputError
 
 RESULTS = "results.jsonl"
@@ -35,11 +36,11 @@ class MissionConfig:
     seed: int
     strategy: str = "ofsm"
     faults: str = ""  # canonical ``K=V,...`` (sorted); "" for the world's baseline
-    planner: str = "lama"
+    planner: str = MISSION_ENGINE
     world: str = "pybullet"
     time_limit: float = 900.0  # simulated seconds the WRS referee allows (the score)
     time_budget: float = 1.0
-    patience: float = 0.0
+    patience: float = MISSION_PATIENCE  # 0: improve for the whole time budget
 
     @property
     def key(self) -> str:
