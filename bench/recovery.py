@@ -10,7 +10,9 @@ the world's baseline, as ``tidyplan run`` without ``--faults``: a grasp fails 5 
 perception errs at the scenario's rates). The scenarios are the cases of
 problems/ named by ``--cases``, or any scenario files given to ``--scenarios`` (the rooms
 bench/wrs.py generates, say), each labelled by its file name without ``.toml``. Each mission runs
-in a fresh process of its own (``--jobs`` at a time): a pybullet server or a crash stays there.
+in a fresh process of its own (``--jobs`` at a time; ``tidyplan sweep``'s engine): a pybullet
+server, a crash or a hang stays there. ``--out`` holds the sweep's table: run again, it skips
+the missions already there.
 Prints one line per mission, then per scenario and overall: share of missions that tidied all
 objects, missions that lost an object (``lost_objects`` > 0), crashes (a mission that raised),
 and the means of replans, recoveries, simulated time and distance. Traces go to ``--out`` (a
@@ -24,26 +26,17 @@ import argparse
 import statistics
 import sys
 import tempfile
-import traceback
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_FAULTS = "grasp_drop=0.2,perception_miss=0.2,perception_false=0.05"
 
 
-def mission(job: tuple[str, str, int, str, str, str, float]) -> dict:
-    label, path, seed, faults, world, out, budget = job
-    from tidyplan.cli_run import parse_faults
-    from tidyplan.mission import Settings, run
-
-    trace = Path(out) / f"{label}-s{seed}.jsonl"
-    try:
-        settings = Settings("ofsm", seed, rates=parse_faults(faults), time_budget=budget, world=world)
-        s = run(path, trace, settings)
-        return {"case": label, "seed": seed, "crash": None, **s}
-    except Exception:  # noqa: BLE001 - a crash is a figure this benchmark reports
-        return {"case": label, "seed": seed, "crash": traceback.format_exc(limit=3)}
+def _row(r: dict) -> dict:
+    """A sweep row as this benchmark reads it: its label, and a crash (a raise, a death or a
+    hang past the sweep's mission limit) as the error's first line."""
+    crash = None if r["status"] == "done" else f"{r['status']}: {r['error']}".split(" (")[0]
+    return {**r, "case": Path(r["scenario_file"]).name.removesuffix(".toml"), "crash": crash}
 
 
 def scenarios(ap: argparse.ArgumentParser, args: argparse.Namespace) -> dict[str, str]:
@@ -119,30 +112,46 @@ def main() -> int:
     ap.add_argument("--out", default=None, help="folder for the traces (default: a temporary one)")
     args = ap.parse_args()
     faults = "" if args.faults.strip().lower() == "none" else args.faults
-    from tidyplan.cli_run import parse_faults
     from tidyplan.errors import InputError
+    from tidyplan.sweep import MissionConfig, canonical_faults
 
     try:
-        parse_faults(faults)
+        canonical_faults(faults)
     except InputError as e:
         ap.error(str(e))
     if args.seeds < 1 or args.jobs < 1:
         ap.error("--seeds and --jobs must be at least 1")
     files = scenarios(ap, args)
     out = Path(args.out or tempfile.mkdtemp(prefix="tidyplan-recovery-"))
-    out.mkdir(parents=True, exist_ok=True)
-    jobs = [
-        (label, path, s, faults, args.world, str(out), args.time_budget)
-        for label, path in files.items()
-        for s in range(args.first_seed, args.first_seed + args.seeds)
-    ]
-    print(f"faults {faults or 'none'}; {len(jobs)} missions; traces in {out}", flush=True)
-    results = []
-    # one fresh process per mission (spawned: a worker is never reused, nothing is inherited)
-    with ProcessPoolExecutor(max_workers=args.jobs, max_tasks_per_child=1) as pool:
-        for r in pool.map(mission, jobs):
-            results.append(r)
-            print(line(r), flush=True)
+    from tidyplan.engines import MISSION_ENGINE
+    from tidyplan.sweep import grid, run_sweep
+
+    configs = grid(
+        list(files.values()),
+        list(range(args.first_seed, args.first_seed + args.seeds)),
+        ["ofsm"],
+        [canonical_faults(faults)],
+        [MISSION_ENGINE],
+        args.world,
+        time_budget=args.time_budget,
+    )
+    print(f"faults {faults or 'none'}; {len(configs)} missions; traces in {out}", flush=True)
+    # tidyplan sweep's engine: a fresh process per mission; the table in --out, resumable.
+    # Lines in the missions' order, each as soon as it and those before it have ended.
+    order = {c.key: i for i, c in enumerate(configs)}
+    ended: dict[int, dict] = {}
+    shown = [0]
+
+    def show(row: dict) -> None:
+        ended[order[MissionConfig.from_row(row).key]] = _row(row)
+        while shown[0] in ended:
+            print(line(ended[shown[0]]), flush=True)
+            shown[0] += 1
+
+    rows = run_sweep(configs, out, jobs=args.jobs, on_row=show)
+    results = [_row(r) for r in rows]
+    for r in results[shown[0] :]:  # rows an earlier run of the same --out had already
+        print(line(r), flush=True)
     print()
     return 0 if report(results, list(files)) else 1
 

@@ -10,9 +10,10 @@ import json
 import math
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
-from tidyplan.engines import MISSION_PATIENCE
+from tidyplan.engines import MISSION_ENGINE, MISSION_PATIENCE
 from tidyplan.errors import Diagnostic, InputError
 from tidyplan.strata import STRATEGIES  # not the loop: `tidyplan check` must not load the planner stack
 from tidyplan.trace_read import delivers
@@ -282,19 +283,35 @@ def _print_summary(s: dict) -> None:
 
 
 def cmd_reproduce(args) -> int:
-    from tidyplan.mission import Settings, project_file, run
+    from tidyplan.mission import project_file
+    from tidyplan.sweep import grid, run_sweep
 
     world = "pybullet" if args.table == "table3" else "symbolic"
-    rows = []
-    for case, file in CASES.items():
-        scenario = _scenario(project_file(f"problems/{file}"))
-        out = {}
-        for strategy in ("ofsm", "greedy"):
-            trace = _trace_path(Path(args.out), f"{args.table}-{scenario.name}-{strategy}-s{args.seed}")
-            print(f"case {case}, {strategy} ({world}) ...", file=sys.stderr)
-            settings = Settings(strategy, args.seed, time_budget=args.time_budget, world=world)
-            out[strategy] = run(scenario, trace, settings)
-        rows.append((case, out))
+    files = {case: str(project_file(f"problems/{file}")) for case, file in CASES.items()}
+    for path in files.values():
+        _scenario(path)  # one message for a scenario that does not load
+    configs = grid(list(files.values()), [args.seed], ["ofsm", "greedy"], [""], [MISSION_ENGINE], world)
+    configs = [replace(c, time_budget=args.time_budget) for c in configs]
+    case_of = {str(Path(f).resolve()): case for case, f in files.items()}
+
+    def show(row: dict) -> None:
+        print(
+            f"case {case_of[row['scenario_file']]}, {row['strategy']} ({world}): {row['status']}",
+            file=sys.stderr,
+        )
+
+    # tidyplan sweep's engine, one mission at a time (Table III prints wall times), each in a
+    # process of its own; a fresh sweep folder per call: a reproduction runs every mission anew
+    folder = _trace_path(Path(args.out), f"{args.table}-s{args.seed}").with_suffix("")
+    found = run_sweep(configs, folder, jobs=1, on_row=show)
+    failed = [r for r in found if r["status"] != "done"]
+    for r in failed:
+        what = f"{Path(r['scenario_file']).stem} {r['strategy']}: the mission {r['status']}"
+        print(f"tidyplan: {what}: {r['error']}", file=sys.stderr)
+    if failed:
+        return 1
+    by = {(case_of[r["scenario_file"]], r["strategy"]): r for r in found}
+    rows = [(case, {s: by[case, s] for s in ("ofsm", "greedy")}) for case in CASES]
     if args.json:
         print(json.dumps([{"case": c, **o} for c, o in rows]))
     elif args.table == "table3":
