@@ -22,28 +22,14 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-
-
-class _Enough(Exception):
-    """Raised from the trace listener once the mission has made its plans."""
+sys.path.insert(0, str(ROOT / "bench"))
 
 
 def _problems(scenario: str, seed: int, replans: int, out: Path) -> list[tuple[Path, Path]]:
-    from tidyplan.mission import Settings, run
+    from replan import first_plans  # bench/replan.py: a mission stopped after its first plans
 
     trace = out / f"{Path(scenario).stem}-s{seed}.jsonl"
-    made: list[dict] = []
-
-    def listen(event: dict) -> None:
-        if event.get("kind") == "plan":
-            made.append(event)
-            if len(made) >= replans:
-                raise _Enough
-
-    try:
-        run(scenario, trace, Settings(seed=seed, world="symbolic", planner="lama-first"), on_event=listen)
-    except _Enough:
-        pass
+    made = first_plans(Path(scenario), trace, "lama-first", seed, replans, 1.0)
     folder = trace.with_suffix(".pddl")
     return [
         (folder / "domain.pddl", trace.parent / e["problem"])

@@ -56,7 +56,10 @@ def _scenario(size: int, out: Path) -> Path:
     return path
 
 
-def _mission(scenario: Path, trace: Path, planner: str, seed: int, replans: int, budget: float) -> list[dict]:
+def first_plans(
+    scenario: Path, trace: Path, planner: str, seed: int, replans: int, budget: float
+) -> list[dict]:
+    """The `plan` events of a symbolic mission, stopped once it has made `replans` of them."""
     from tidyplan.mission import Settings, run
 
     made = []
@@ -119,7 +122,7 @@ def main() -> int:
         trace = out / f"n{size}-s{args.seed}-{args.planner}.jsonl"
         if trace.exists():
             ap.exit(2, f"replan.py: {trace} exists; choose another --out\n")
-        plans = _mission(scenario, trace, args.planner, args.seed, args.replans, args.time_budget)
+        plans = first_plans(scenario, trace, args.planner, args.seed, args.replans, args.time_budget)
         print(f"\n{size} objects ({scenario.name}): {len(plans)} replans")
         print(f"  {'replan':>6s} {header} {'in-loop':>8s} {'driver':>8s} {'ratio':>6s}")
         ratios, loops, drivers = [], [], []
