@@ -116,3 +116,12 @@ class World(Skills, Referee, Protocol):
     ``room``, the map the robot is given (in pybullet, read back from the built scene)."""
 
     room: RoomMap
+
+
+def referee_view(world: Referee) -> tuple[dict[str, list], list[str]]:
+    """Where the world holds each item at the end, for a reader to draw: name -> [state, x, y],
+    state ``placed``, ``held`` or ``tidied:<deposit>``; and the items tidied into a deposit of
+    another category (they earn no category points in the WRS score, tidyplan.wrs)."""
+    found = {name: world.where(name) for name in sorted(world.items)}
+    places = {n: [state, round(x, 3), round(y, 3)] for n, (state, (x, y)) in found.items()}
+    return places, [n for n in world.untidied() if places[n][0].startswith("tidied")]

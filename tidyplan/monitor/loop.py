@@ -29,7 +29,7 @@ from collections import Counter
 from dataclasses import dataclass
 
 from tidyplan.belief import Belief
-from tidyplan.contract import World
+from tidyplan.contract import World, referee_view
 from tidyplan.monitor.counting import Counters
 from tidyplan.monitor.looking import go_and_look, inspect
 from tidyplan.monitor.planning import Planning
@@ -60,9 +60,7 @@ class LoopConfig:
     # time replanned and tried again, will not go (the world has a reason the belief lacks).
     # The item it acts on is given up and the rest tidied; an action on no item ends the mission.
     max_same_failure: int = 5
-    # The referee's time limit in simulated seconds (WRS task 1: 15 minutes), written in the start
-    # event for readers that score the run (tidyplan.wrs); the loop itself does not stop at it.
-    time_limit_s: float = 900.0
+    time_limit_s: float = 900.0  # the WRS referee's, for readers (tidyplan.wrs); the loop runs on
 
 
 @dataclass(slots=True)
@@ -127,12 +125,8 @@ class Mission(Planning):
         escaped = self.world.escaped()
         if escaped:  # the simulation's fault, not the robot's: reported, never counted as lost
             self.trace.emit("sim_fault", what="objects outside the room", items=escaped)
-        places = self._true_places()
-        # tidied, but into another category's deposit: the referee's verdict, for the WRS score
-        misplaced = [n for n in self.world.untidied() if places[n][0].startswith("tidied")]
-        self.trace.emit(
-            "end", success=success, reason=reason, items=places, escaped=escaped, misplaced=misplaced
-        )
+        places, wrong = referee_view(self.world)
+        self.trace.emit("end", success=success, reason=reason, items=places, escaped=escaped, misplaced=wrong)
         return Outcome(success, reason, self.count)
 
     def _tick(self) -> str | None:
@@ -397,12 +391,6 @@ class Mission(Planning):
                 self.trace.emit("assumption", action=a.text, holds=False)
                 return why
         return None
-
-    def _true_places(self) -> dict[str, list]:
-        """Where the world holds each item at the end (the referee's view, for a reader to draw):
-        name -> [state, x, y], state ``placed``, ``held`` or ``tidied:<deposit>``."""
-        found = {name: self.world.where(name) for name in sorted(self.world.items)}
-        return {n: [state, _r(x), _r(y)] for n, (state, (x, y)) in found.items()}
 
 
 def _r(x: float) -> float:
