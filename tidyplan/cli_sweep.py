@@ -95,6 +95,8 @@ def configs_from(args) -> list:
         raise InputError("--out: required (the table's folder)")
     if args.jobs < 1:
         raise InputError(f"--jobs: {args.jobs} is not at least 1")
+    if not 0 <= args.patience < float("inf"):
+        raise InputError(f"--patience: {args.patience} is not a number of seconds >= 0")
     strategies = _names(args.strategy, "--strategy")
     for s in strategies:
         if s not in STRATEGIES:
