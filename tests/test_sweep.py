@@ -37,6 +37,10 @@ def crash_on_1(config, trace):
         raise RuntimeError("the world fell over")
     return ok(config, trace)
 
+def die(config, trace):
+    print("segfault, say")
+    os._exit(3)
+
 def hang(config, trace):
     with open(os.environ["SWEEP_PIDS"], "a") as f:
         f.write(f"{os.getpid()}\\n")
@@ -142,6 +146,11 @@ def test_a_crashing_mission_is_a_row_and_the_sweep_goes_on(fakes):
     by_seed = {r["seed"]: r for r in rows}
     assert by_seed[1]["status"] == "crashed" and "the world fell over" in by_seed[1]["error"]
     assert by_seed[0]["status"] == by_seed[2]["status"] == "done"
+
+
+def test_a_mission_whose_process_dies_is_a_crashed_row_with_its_last_output(fakes):
+    (row,) = run_sweep(_configs(range(1)), fakes / "sweep", jobs=1, limit=60, target="sweep_fakes:die")
+    assert row["status"] == "crashed" and "status 3" in row["error"] and "segfault, say" in row["error"]
 
 
 def test_a_hanging_mission_is_killed_at_the_limit_and_recorded_as_a_timeout(fakes):
