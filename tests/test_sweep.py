@@ -212,6 +212,17 @@ def test_ray_gives_the_local_pools_rows(tmp_path):
     assert [_same(r) for r in local] == [_same(r) for r in on_ray]
 
 
+@pytest.mark.slow
+def test_on_ray_a_hanging_mission_is_a_timeout_row_and_leaves_no_process(fakes):
+    pytest.importorskip("ray", reason="Ray is an optional extra: pip install '.[ray]'")
+    (row,) = run_sweep(
+        _configs(range(1)), fakes / "ray", jobs=1, ray=True, limit=1.0, target="sweep_fakes:hang"
+    )
+    assert row["status"] == "timeout"
+    pids = [int(p) for p in (fakes / "pids.txt").read_text().split()]
+    assert pids and not any(_alive(p) for p in pids)
+
+
 def _same(row: dict) -> dict:
     """A row without what differs from run to run of a deterministic mission: wall times, paths."""
     return {k: v for k, v in row.items() if k not in ("wall_time_s", "replan_time_s", "trace")}

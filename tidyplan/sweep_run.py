@@ -181,7 +181,8 @@ def run_ray(jobs: list[dict], address: str | None, workers: int, limit: float, o
         if address:
             ray.init(address=address, log_to_driver=False)
         else:
-            ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False)
+            # "local": always a Ray of our own, never one a `ray start` left running here
+            ray.init(address="local", num_cpus=workers, include_dashboard=False, log_to_driver=False)
     except (ConnectionError, ValueError, RuntimeError) as e:
         raise InputError(f"--ray {address or ''}: Ray did not start: {e}".replace("  ", " ")) from None
     remote = ray.remote(num_cpus=1, max_retries=2)(run_one)
