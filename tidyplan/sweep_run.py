@@ -199,9 +199,13 @@ def run_ray(jobs: list[dict], address: str | None, workers: int, limit: float, o
                     outcome = {"status": "crashed", "error": f"Ray: {type(e).__name__}: {str(e)[-300:]}"}
                 on_outcome(job, outcome)
     finally:
-        for ref in refs:
-            with contextlib.suppress(Exception):
-                ray.cancel(ref, force=True)
+        if address:  # a cluster outlives us: its workers running our tasks are killed
+            for ref in refs:
+                with contextlib.suppress(Exception):
+                    ray.cancel(ref, force=True)
+        # A Ray started here ends with everything in it, each mission going with its worker (it
+        # asked for SIGTERM on its parent's death). Force-cancelling there first raced the
+        # tasks' replies and aborted the driver in Ray 2.60 (task_manager.cc, CompletePendingTask)
         ray.shutdown()
 
 
