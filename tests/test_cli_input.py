@@ -136,3 +136,17 @@ def test_bad_option_is_one_line_and_exit_2(write, tmp_path, tidyplan_cmd, args, 
     assert len(done.stderr.splitlines()) == 1, done.stderr
     assert re.fullmatch(message, done.stderr.strip()), done.stderr
     assert not (tmp_path / "o").exists()
+
+
+# ---------------------------------------------------------------- run's scenario
+def test_a_shipped_scenario_is_found_by_its_name_and_a_file_here_comes_first(tmp_path, monkeypatch):
+    from tidyplan.cli_run import scenario_path
+    from tidyplan.mission import project_file
+
+    monkeypatch.chdir(tmp_path)
+    assert scenario_path("case1") == project_file("problems/case1.toml")
+    assert scenario_path("case1.toml") == project_file("problems/case1.toml")
+    (tmp_path / "case1").write_text("")  # a file of that name here is the user's: it is read
+    assert scenario_path("case1") == Path("case1")
+    assert scenario_path("nosuch") == Path("nosuch")  # loading it says "no such file"
+    assert scenario_path("sub/case1") == Path("sub/case1")  # a path is never looked up elsewhere

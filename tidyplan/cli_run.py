@@ -41,7 +41,11 @@ FAULTS = {
 
 def add_parsers(sub, positive) -> None:
     r = sub.add_parser("run", help="run a monitored tidy-up mission and write its trace")
-    r.add_argument("scenario", nargs="?", help=f"scenario file (default: {DEFAULT_SCENARIO})")
+    r.add_argument(
+        "scenario",
+        nargs="?",
+        help=f"scenario file or a shipped one's name, e.g. case1 (default: {DEFAULT_SCENARIO})",
+    )
     r.add_argument(
         "--world",
         choices=tuple(WORLDS),
@@ -184,6 +188,18 @@ def _scenario(path: str | Path):
         raise InputError([Diagnostic(m, None, None, "") for m in e.messages]) from None
 
 
+def scenario_path(text: str) -> Path:
+    """A scenario file, or the name of a shipped one (``case1``, ``wrs``: ``problems/<name>.toml``)
+    where no file of that name is here."""
+    from tidyplan.mission import project_file
+
+    path = Path(text)
+    if not path.exists() and "/" not in text:
+        shipped = project_file(f"problems/{text.removesuffix('.toml')}.toml")
+        path = shipped if shipped.exists() else path
+    return path
+
+
 def _trace_path(folder: Path, stem: str) -> Path:
     """A fresh file name: runs are never overwritten. The folder is made with the trace (not
     here: input refused before the mission must leave nothing behind)."""
@@ -199,7 +215,7 @@ def cmd_run(args) -> int:
     from tidyplan.library import run
     from tidyplan.mission import project_file  # the planner stack loads only when needed
 
-    scenario = _scenario(args.scenario or project_file(DEFAULT_SCENARIO))
+    scenario = _scenario(scenario_path(args.scenario) if args.scenario else project_file(DEFAULT_SCENARIO))
     trace = (
         Path(args.trace)
         if args.trace

@@ -71,13 +71,9 @@ def add_parser(sub, positive) -> None:
 
 
 def _scenario_file(text: str) -> str:
-    from tidyplan.cli_run import _scenario
-    from tidyplan.mission import project_file
+    from tidyplan.cli_run import _scenario, scenario_path
 
-    path = Path(text)
-    if not path.exists() and "/" not in text:
-        shipped = project_file(f"problems/{text.removesuffix('.toml')}.toml")
-        path = shipped if shipped.exists() else path
+    path = scenario_path(text)
     _scenario(path)  # InputError, with the file's messages, if it does not load
     return str(path.resolve())
 
