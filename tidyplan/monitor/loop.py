@@ -259,7 +259,7 @@ class Mission(Planning):
         unlikely: list[float] = []
         out_of_time = 0  # goals not planned in time (or by an incomplete search): nothing proven
         for label, goal, virtual in self._goals():
-            if not goal:
+            if goal is not None and not goal:  # None: "feasible", worked out only when reached
                 continue
             result, snap, problem, p = self._plan(goal, virtual, cause, why, label)
             if result.status is not Status.SOLVED:
@@ -364,6 +364,7 @@ class Mission(Planning):
                 new=update.new,
                 confirmed=update.confirmed,
                 forgotten=update.forgotten,
+                overlapping=update.overlapping,
             )
         return update.new
 
