@@ -95,6 +95,8 @@ class Update:
     new: list[str] = field(default_factory=list)
     confirmed: list[str] = field(default_factory=list)
     forgotten: list[str] = field(default_factory=list)
+    # believed items a detection of another kind lay on: the same object seen twice, not added
+    overlapping: list[str] = field(default_factory=list)
 
 
 class Belief:
@@ -281,6 +283,10 @@ class Belief:
                 matched.add(k.name)
                 update.confirmed.append(k.name)
                 continue
+            under = self._under(d)
+            if under is not None:
+                update.overlapping.append(under.name)
+                continue
             name = self._add(d)
             matched.add(name)
             update.new.append(name)
@@ -405,6 +411,16 @@ class Belief:
             if dist <= max(SAME_ITEM, k.spread) and (best is None or dist < best[0]):
                 best = (dist, k)
         return None if best is None else best[1]
+
+    def _under(self, d: Detection) -> Known | None:
+        """A believed item on the same support whose footprint holds the detection's centre: two
+        solid objects cannot lie there, so this is that item seen as another category (or twice)
+        and adds nothing. Were the belief the wrong one, its misses forget it in time."""
+        for k in self.items.values():
+            inside = abs(d.x - k.x) < k.sx / 2 and abs(d.y - k.y) < k.sy / 2
+            if inside and k.state == "placed" and k.on == d.on:
+                return k
+        return None
 
     def _revive(self, d: Detection) -> str | None:
         """The name of a forgotten item of this category that lay where d is, if any."""
