@@ -3,39 +3,24 @@
 from __future__ import annotations
 
 from sim.scenario_file import loads
+from tests.test_loop import ROOM
 from tidyplan.belief import Belief, Detection
 from tidyplan.geometry import RoomMap
 
-ROOM = """
-schema = 1
-name = "two-kinds"
-title = "a room with two deposits"
-[room]
-bounds = [0.0, 3.0, 0.0, 3.0]
-entrance = [2.6, 0.4]
+# The test room of tests/test_loop.py with a second category and its deposit.
+BOOKS = """
 [prior]
 count = { toy = 1, book = 1 }
-[[furniture]]
-name = "shelf"
-center = [0.2, 1.5]
-size = [0.3, 1.0]
-height = 0.9
-kind = "table"
-[[deposit]]
-name = "box"
-category = "toy"
-position = [0.2, 1.3, 0.9]
-approach = [0.75, 1.3]
 [[deposit]]
 name = "tray"
 category = "book"
-position = [0.2, 1.7, 0.9]
-approach = [0.75, 1.7]
+position = [0.2, 1.85, 0.9]
+approach = [0.75, 1.85]
 """
 
 
 def _belief_with_a_puzzle() -> tuple[Belief, str]:
-    scenario = loads(ROOM, "two-kinds.toml")
+    scenario = loads(ROOM.format(name="two-kinds") + BOOKS, "two-kinds.toml")
     belief = Belief(scenario, RoomMap(scenario))
     name = belief.observe([Detection("toy", 1.5, 1.5, "floor", 0.08, 0.08, 0.06)], None).new[0]
     return belief, name
