@@ -189,7 +189,7 @@ def _scenario(path: str | Path):
 
 
 def scenario_path(text: str) -> Path:
-    """A scenario file, or the name of a shipped one (``case1``, ``wrs``: ``problems/<name>.toml``)
+    """A scenario file, or the name of a shipped one (``case1``, ``wrs-drawer``: ``problems/<name>.toml``)
     where no file of that name is here."""
     from tidyplan.mission import project_file
 
