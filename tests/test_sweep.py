@@ -183,6 +183,19 @@ def test_report_pools_seeds_by_condition_and_counts_crashes_as_failures(fakes):
     assert "case1 ofsm lama-first baseline symbolic" in lines[1]
 
 
+def test_report_by_named_fields_pools_the_rest(fakes, capsys):
+    case2 = str(project_file("problems/case2.toml"))
+    configs = grid([CASE1, case2], [0, 1], ["ofsm"], [""], ["lama-first"], "symbolic")
+    rows = run_sweep(configs, fakes / "sweep", jobs=2, limit=60, target="sweep_fakes:ok")
+    assert [e["missions"] for e in sweep_report.conditions(rows)] == [2, 2]  # a line per scenario
+    (pooled,) = sweep_report.conditions(rows, ("strategy", "faults"))
+    assert pooled["missions"] == 4 and pooled["success"] == 2 and pooled["label"] == "ofsm baseline"
+    assert main(["sweep", "--report", str(fakes / "sweep"), "--by", "strategy,faults"]) == 0
+    assert "ofsm baseline   4   2  50%" in capsys.readouterr().out
+    assert main(["sweep", "--report", str(fakes / "sweep"), "--by", "seed"]) == 2
+    assert "--by: 'seed' is not one of" in capsys.readouterr().err
+
+
 # ------------------------------------------------------------------ the command line
 def test_sweep_without_ray_installed_exits_2_naming_the_extra(monkeypatch, capsys, tmp_path):
     from tidyplan import cli_sweep

@@ -67,6 +67,12 @@ def add_parser(sub, positive) -> None:
     )
     s.add_argument("--report", metavar="DIR", help="print the summary of the table in DIR; run nothing")
     s.add_argument("--plot", metavar="FILE.png", help="draw the summary by condition")
+    s.add_argument(
+        "--by",
+        metavar="FIELD,...",
+        help="the fields that make a condition in the summary, the rest pooled (e.g. strategy,faults: "
+        "over every scenario); default every one but the seed",
+    )
     s.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -130,12 +136,13 @@ def ray_missing() -> bool:
 
 def cmd_sweep(args) -> int:
     from tidyplan.sweep import RESULTS, RESULTS_CSV, Table, run_sweep
-    from tidyplan.sweep_report import plot, report_lines
+    from tidyplan.sweep_report import parse_by, plot, report_lines
     from tidyplan.sweep_run import RAY_INSTALL
 
     def warn(message: str) -> None:
         print(f"tidyplan: warning: {message}", file=sys.stderr)
 
+    by = parse_by(args.by)  # checked before anything runs
     if args.report is not None:
         if args.scenarios:
             raise InputError("--report DIR: summarises a table; give no SCENARIO with it")
@@ -157,9 +164,9 @@ def cmd_sweep(args) -> int:
             progress=not args.quiet,
         )
         print(f"table: {Path(args.out) / RESULTS} and {RESULTS_CSV}: {len(rows)} missions of this sweep")
-    for line in report_lines(rows):
+    for line in report_lines(rows, by):
         print(line)
     if args.plot:
-        plot(rows, args.plot)
+        plot(rows, args.plot, by)
         print(f"plot: {args.plot}")
     return 0 if all(r.get("status") == "done" for r in rows) else 1

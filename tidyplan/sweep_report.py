@@ -1,4 +1,5 @@
-"""The summary of a sweep by condition (every configuration field but the seed): success rate
+"""The summary of a sweep by condition (every configuration field but the seed, or those
+``--by`` names): success rate
 with its Wilson 95 % interval, mean and standard deviation of simulated time, distance, replans,
 recoveries and the WRS score; the same drawn with ``--plot``.
 
@@ -13,6 +14,7 @@ import math
 import statistics
 from pathlib import Path
 
+from tidyplan.errors import InputError
 from tidyplan.sweep import MissionConfig
 
 Z95 = 1.959963984540054
@@ -36,18 +38,49 @@ def wilson(successes: int, n: int, z: float = Z95) -> tuple[float, float]:
     return (max(0.0, centre - half), min(1.0, centre + half))
 
 
-def conditions(rows: list[dict]) -> list[dict]:
-    """One entry per condition, in the order the table first has them."""
+# What ``--by`` may name: a configuration field (``scenario`` for the scenario file), in the
+# order a label lists them.
+BY_FIELDS = {
+    "scenario": "scenario_file",
+    "strategy": "strategy",
+    "planner": "planner",
+    "faults": "faults",
+    "world": "world",
+    "time_limit": "time_limit",
+    "time_budget": "time_budget",
+    "patience": "patience",
+}
+
+
+def parse_by(text: str | None) -> tuple[str, ...] | None:
+    """``--by strategy,faults``: the fields that make a condition (the rest pooled); None: all."""
+    if not text:
+        return None
+    names = tuple(dict.fromkeys(n.strip() for n in text.split(",") if n.strip()))
+    for n in names:
+        if n not in BY_FIELDS:
+            raise InputError(f"--by: {n!r} is not one of {', '.join(BY_FIELDS)}")
+    if not names:
+        raise InputError("--by: no field given")
+    return names
+
+
+def conditions(rows: list[dict], by: tuple[str, ...] | None = None) -> list[dict]:
+    """One entry per condition, in the order the table first has them. A condition is every
+    configuration field but the seed, or only the fields ``by`` names (the others pooled: a
+    strategy over many rooms, say)."""
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
-        groups.setdefault(MissionConfig.from_row(r).condition, []).append(r)
+        config = MissionConfig.from_row(r)
+        key = config.condition if by is None else tuple(getattr(config, BY_FIELDS[f]) for f in by)
+        groups.setdefault(key, []).append(r)
     out = []
     for rs in groups.values():
         config = MissionConfig.from_row(rs[0])
         ended = [r for r in rs if r.get("status") == "done"]
         k = sum(bool(r.get("success")) for r in ended)
         entry = {
-            "label": label(config),
+            "label": label(config) if by is None else pooled_label(config, by),
             "config": config,
             "missions": len(rs),
             "success": k,
@@ -73,11 +106,22 @@ def label(config: MissionConfig) -> str:
     return f"{scenario} {config.strategy} {config.planner} {faults} {config.world}{extra}"
 
 
-def report_lines(rows: list[dict]) -> list[str]:
-    entries = conditions(rows)
+def pooled_label(config: MissionConfig, by: tuple[str, ...]) -> str:
+    words = {
+        "scenario": Path(config.scenario_file).stem,
+        "faults": config.faults or "baseline",
+        "time_limit": f"limit {config.time_limit:g}s",
+        "time_budget": f"budget {config.time_budget:g}s",
+        "patience": f"patience {config.patience:g}s",
+    }
+    return " ".join(words.get(f, str(getattr(config, BY_FIELDS[f]))) for f in BY_FIELDS if f in by)
+
+
+def report_lines(rows: list[dict], by: tuple[str, ...] | None = None) -> list[str]:
+    entries = conditions(rows, by)
     if not entries:
         return ["no missions in the table"]
-    width = max(len(e["label"]) for e in entries)
+    width = max(len("condition"), *(len(e["label"]) for e in entries))
     head = f"{'condition':{width}} {'n':>3} {'success (95% CI)':>22} {'crash':>5} {'t/o':>3}"
     head += "".join(f" {h + ' mean±sd':>22}" for _, h, _ in MEASURES)
     lines = [head]
@@ -95,14 +139,14 @@ def report_lines(rows: list[dict]) -> list[str]:
     return lines
 
 
-def plot(rows: list[dict], path: str | Path) -> None:
+def plot(rows: list[dict], path: str | Path, by: tuple[str, ...] | None = None) -> None:
     """One panel per figure, one bar per condition: success with its interval, means with ±sd."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    entries = conditions(rows)
+    entries = conditions(rows, by)
     names = [e["label"] for e in entries]
     x = list(range(len(entries)))
     fig, axes = plt.subplots(2, 3, figsize=(15, 8), constrained_layout=True)
