@@ -294,3 +294,22 @@ def test_when_the_whole_goal_has_no_plan_the_items_that_have_one_are_tidied():
     assert not outcome.success and outcome.reason.startswith("no plan for toy-2")
     feasible = [e for e in events if e["kind"] == "plan" and e["goal_kind"] == "feasible"]
     assert feasible and feasible[0]["goal"] == ["toy-1"] and feasible[0]["status"] == "solved"
+
+
+def test_the_feasible_goal_is_a_horizon_of_the_nearest_items_not_a_plan_call_for_every_item():
+    # 13 toys and a planner that plans only for one item at a time: every goal of several has no
+    # plan, so the loop looks for feasible items, each with a plan of its own, nearest first,
+    # and stops at a horizon's worth (12) instead of calling the planner for all 13.
+    toys = {f"t{i:02d}": (0.9 + 0.3 * (i % 7), 0.9 + 0.9 * (i // 7)) for i in range(13)}
+    alone: list[str] = []
+
+    def one_at_a_time(domain, problem, max_stratum) -> PlanResult:
+        if len(problem.goal.parts) > 1:
+            return PlanResult(Status.NO_PLAN, (), None, None, (), 0.0, "", "unsolvable")
+        alone.append(problem.goal.parts[0].args[0])
+        return scripted(domain, problem, max_stratum)
+
+    outcome, events, _ = _mission(toys, planner=one_at_a_time)
+    feasible = next(e for e in events if e["kind"] == "plan" and e["goal_kind"] == "feasible")
+    assert len(feasible["goal"]) == 12 and alone[:12] == feasible["goal"]
+    assert len(set(alone[:12])) == 12 and not outcome.success

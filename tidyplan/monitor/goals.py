@@ -24,10 +24,12 @@ def goals(belief: Belief, facts: MapFacts) -> list[Goal]:
     """The goals to try: ``horizon`` (in a room of more than HORIZON items: the HORIZON seen items
     nearest the robot, those it can drive to now first, then unseen ones up to HORIZON, a few of
     each category); ``all``; ``seen`` (when ``all`` has virtual objects); last the seen items, from
-    which the loop keeps those that have a plan on their own (``feasible``)."""
+    which the loop keeps those that have a plan on their own (``feasible``: nearest first in a
+    room of more than HORIZON items, so the loop can stop once it has HORIZON of them)."""
     seen = [k.name for k in belief.untidied() if k.state == "held" or k.name in facts.grasp]
     virtual = belief.virtual() if belief.p_item_near(facts) else []
     out: list[Goal] = [("all", seen + [v for v, _ in virtual], virtual)]
+    order = seen  # the order feasible items are looked for in
     if len(seen) + len(virtual) > HORIZON:
         here = robot_waypoint(facts, belief)
 
@@ -39,10 +41,11 @@ def goals(belief: Belief, facts: MapFacts) -> list[Goal]:
                 return (0, facts.path[(here, w)])
             return (1, facts.distance(here, w) or float("inf"))
 
-        near = sorted(seen, key=lambda g: (distance(g), g))[:HORIZON]
+        order = sorted(seen, key=lambda g: (distance(g), g))
+        near = order[:HORIZON]
         by_number = sorted(virtual, key=lambda v: (int(v[0].rsplit("-", 1)[1]), v[1]))
         some = by_number[: HORIZON - len(near)]
         out.insert(0, ("horizon", near + [v for v, _ in some], some))
     if virtual:
         out.append(("seen", seen, []))
-    return out + [("feasible", seen, [])]
+    return out + [("feasible", order, [])]

@@ -11,7 +11,7 @@ from dataclasses import replace
 
 from tidyplan import commitment
 from tidyplan.errors import PlannerError
-from tidyplan.monitor.goals import goals
+from tidyplan.monitor.goals import HORIZON, goals
 from tidyplan.pddl import model as m
 from tidyplan.pddl.check import check_problem
 from tidyplan.pddl.simulate import Simulator
@@ -39,8 +39,13 @@ class Planning:
     def _plan(
         self, goal, virtual, cause, why, label
     ) -> tuple[PlanResult, Snapshot | None, m.Problem | None, float]:  # noqa: E501
-        if goal is None:  # the items that have a plan alone
-            goal = [g for g in self._seen if self._alone(g)]
+        if goal is None:  # the items that have a plan alone, nearest first, a horizon's worth
+            goal = []  # (a planner call each: not one for every item of a 96-item room)
+            for g in self._seen:
+                if len(goal) == HORIZON:
+                    break
+                if self._alone(g):
+                    goal.append(g)
             if not goal:
                 nothing = PlanResult(Status.NO_PLAN, (), None, None, (), 0.0, "", "nothing feasible")
                 return nothing, None, None, 0.0
