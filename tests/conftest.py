@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from processes import become_subreaper
 
 REPO = Path(__file__).resolve().parent.parent
 CORPUS_ENV = "TIDYPLAN_PDDL_CORPUS"
@@ -35,6 +36,11 @@ class CorpusPair:
     @property
     def folder(self) -> str:
         return self.domain.parent.name
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    # what the tests' children leave behind comes back to this process (tests/processes.py)
+    become_subreaper()
 
 
 def corpus_root() -> Path:

@@ -123,7 +123,20 @@ def test_run_refuses_a_domain_it_cannot_run_before_the_world_starts(write, tmp_p
     monkeypatch.setattr(mission, "make_world", lambda *a, **k: made.append(a))
     path = write("mine.pddl", _edit("(adjust_base ?o) (grasp ?o)", "(adjust_base ?o) (grab ?o)"))
     trace = tmp_path / "t.jsonl"
-    status = main(["run", "--world", "symbolic", "--domain", str(path), "--trace", str(trace), "--quiet"])
+    status = main(
+        [
+            "run",
+            "--world",
+            "symbolic",
+            "--planner",
+            "lama-first",
+            "--domain",
+            str(path),
+            "--trace",
+            str(trace),
+            "--quiet",
+        ]
+    )
     err = capsys.readouterr().err
     assert status == 2 and "unknown unit 'grab'" in err and "Traceback" not in err
     assert made == [] and not trace.exists()
@@ -132,7 +145,17 @@ def test_run_refuses_a_domain_it_cannot_run_before_the_world_starts(write, tmp_p
 def test_run_refuses_a_planning_domain_without_units(tmp_path, capsys, corpus_pairs):
     pair = corpus_pairs[0]
     status = main(
-        ["run", "--world", "symbolic", "--domain", str(pair.domain), "--trace", str(tmp_path / "t")]
+        [
+            "run",
+            "--world",
+            "symbolic",
+            "--planner",
+            "lama-first",
+            "--domain",
+            str(pair.domain),
+            "--trace",
+            str(tmp_path / "t"),
+        ]
     )
     err = capsys.readouterr().err
     assert status == 2

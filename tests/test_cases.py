@@ -99,7 +99,9 @@ def test_with_faults_on_nothing_is_lost(name, tmp_path):
 @pytest.mark.parametrize("name", ["case2", "case3"])
 def test_greedy_fails_where_p1_cannot_go_on(name, tmp_path):
     summary = run(
-        PROBLEMS / f"{name}.toml", tmp_path / "t.jsonl", Settings("greedy", seed=1, time_budget=0.5)
+        PROBLEMS / f"{name}.toml",
+        tmp_path / "t.jsonl",
+        Settings("greedy", seed=1, planner="lama-first", time_budget=0.5),
     )
     assert not summary["success"]
     assert summary["delivered"] < 12
@@ -119,8 +121,8 @@ def test_run_case3_json_from_the_command_line(tidyplan_cmd, tmp_path):
             "--json",
             "--trace",
             str(trace),
-            "--time-budget",
-            "0.5",
+            "--planner",
+            "lama-first",
         ],
         capture_output=True,
         text=True,

@@ -130,17 +130,18 @@ def test_readme_opens_with_exactly_two_commands():
 
 
 @pytest.mark.slow
-def test_readmes_main_command_runs(tidyplan_cmd):
+def test_readmes_main_command_runs(tidyplan_cmd, tmp_path):
     """The part after the install: the installed package is already under test. It runs the
-    default mission (case III) and writes its trace under runs/ (ignored by git)."""
+    default mission (case III) and writes its trace under runs/ in the folder it runs in."""
     command = shlex.split(_readme_commands()[0].split("&&", 1)[1].strip())
     assert command[0] == "tidyplan"
-    before = set((ROOT / "runs").glob("*.jsonl")) if (ROOT / "runs").exists() else set()
-    done = subprocess.run(tidyplan_cmd + command[1:], cwd=ROOT, capture_output=True, text=True, timeout=900)
+    done = subprocess.run(
+        tidyplan_cmd + command[1:], cwd=tmp_path, capture_output=True, text=True, timeout=900
+    )
     assert done.returncode == 0, done.stderr
     assert "tidied 12/12" in done.stderr and "success" in done.stdout
-    new = set((ROOT / "runs").glob("*.jsonl")) - before
-    assert len(new) == 1 and f"trace {new.pop().relative_to(ROOT)}" in done.stdout
+    (trace,) = (tmp_path / "runs").glob("*.jsonl")
+    assert f"trace {trace.relative_to(tmp_path)}" in done.stdout
 
 
 @pytest.mark.slow

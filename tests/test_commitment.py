@@ -71,7 +71,11 @@ def test_a_plan_under_the_threshold_as_a_whole_is_adopted_when_its_commitment_is
     toys = [("t1", 1.8, 0.8), ("t2", 1.8, 1.4), ("t3", 1.8, 2.0), ("t4", 1.8, 2.5)]
     trace = tmp_path / "t.jsonl"
     rates = EXACT
-    summary = run(_scenario("four", toys), trace, Settings(rates=rates, time_budget=0.5, min_probability=0.8))
+    summary = run(
+        _scenario("four", toys),
+        trace,
+        Settings(rates=rates, planner="lama-first", time_budget=0.5, min_probability=0.8),
+    )
     first = _plans(_events(trace))[0]
     assert first["probability"] < 0.8 <= first["commitment_probability"] and first["adopted"]
     assert summary["success"] and summary["delivered"] == 4
@@ -80,7 +84,11 @@ def test_a_plan_under_the_threshold_as_a_whole_is_adopted_when_its_commitment_is
 def test_a_commitment_under_the_threshold_ends_the_mission_with_the_rule_named(tmp_path):
     summary, events = None, None
     trace = tmp_path / "t.jsonl"
-    summary = run(_scenario("one", [("t1", 1.8, 1.0)]), trace, Settings(rates=EXACT, min_probability=0.99))
+    summary = run(
+        _scenario("one", [("t1", 1.8, 1.0)]),
+        trace,
+        Settings(rates=EXACT, planner="lama-first", min_probability=0.99),
+    )
     events = _events(trace)
     assert not summary["success"]
     assert summary["reason"].startswith("no plan whose next commitment is likely enough")

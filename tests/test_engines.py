@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 import pytest
+from processes import descendants
 
 from tidyplan.engines import DEFAULT_ENGINE, ENGINES, engine_names
 from tidyplan.errors import PlannerError
@@ -17,40 +18,20 @@ ROOT = Path(__file__).parent.parent
 sys.path.insert(0, str(ROOT / "bench"))
 import tidygen  # noqa: E402
 
-_ENGINE_HOME: list[str] = []  # the current test's folder for engines (see engine_home)
-
 
 @pytest.fixture(autouse=True)
 def engine_home(tmp_path_factory, monkeypatch):
     """Each test's engines work in a folder of their own: tidyplan runs each in a temporary
-    directory, made under this one, which is their working directory. ``_engine_processes``
-    counts only those, so Fast Downward run by anything else on the machine (a benchmark beside
-    the tests) is not taken for an engine a test left behind."""
+    directory made under this one (their working directory), never in the user's folder."""
     home = str(tmp_path_factory.mktemp("engines"))
     monkeypatch.setattr(tempfile, "tempdir", home)
     monkeypatch.setenv("TMPDIR", home)  # for a tidyplan run as a subprocess
-    _ENGINE_HOME[:] = [home]
-    yield home
-    _ENGINE_HOME.clear()
+    return home
 
 
 def _engine_processes(marker: bytes = b"downward") -> set[int]:
-    """PIDs of running (not zombie) Fast Downward processes this test started (working in its
-    engine home, where a process left behind still is)."""
-    home = _ENGINE_HOME[0]
-    pids = set()
-    for entry in Path("/proc").iterdir():
-        if not entry.name.isdigit():
-            continue
-        try:
-            cmd = (entry / "cmdline").read_bytes()
-            state = (entry / "stat").read_text().split(") ", 1)[1][0]
-            cwd = os.readlink(entry / "cwd")
-        except OSError:
-            continue
-        if marker in cmd and state != "Z" and cwd.startswith(home):
-            pids.add(int(entry.name))
-    return pids
+    """PIDs of running Fast Downward processes this test started (tests/processes.py)."""
+    return descendants(marker)
 
 
 SEARCH_BINARY = b"release/bin/downward"
@@ -82,26 +63,81 @@ def test_the_default_plans_the_optimum_of_a_12_object_tidy_up(twelve_objects):
     assert result.score.cost == pytest.approx(tidygen.optimum(1), abs=0.005)
 
 
+@pytest.fixture
+def sixteen_every_move_open(tmp_path):
+    """16 objects, every move open and not reduced (reduce_moves=False): the optimal search does
+    not end in minutes (measured: not within 20 s), LAMA's first plan comes within a second."""
+    path = tmp_path / "tidy-12.pddl"
+    path.write_text(tidygen.generate(1, 16).replace("    (shortest-paths)\n", ""))
+    return read(ROOT / "domains" / "tidy.pddl", path)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("planner", ["lama", "lama-optimal"])
 def test_anytime_search_stops_at_the_deadline_and_keeps_its_best_plan(
-    planner, every_move_open, tmp_path, monkeypatch
+    planner, sixteen_every_move_open, tmp_path, monkeypatch
 ):
-    # every move open: the default's optimal search does not end within 1 s, LAMA's plan is taken
+    """The default's optimal search does not end within the budget here, LAMA's best plan is
+    taken. The budget is improvement time after the first plan, on the call's own
+    clock: a clock that moves only when the call waits between its looks makes the deadline
+    exact whatever the machine's load, and the searches still running then are stopped by the
+    call, not left to finish."""
+    import tidyplan.fastdownward as fastdownward
+
+    clock = FakeClock()
+    monkeypatch.setattr(fastdownward, "time", clock)
+    monkeypatch.setattr(fastdownward, "_wait", clock.sleep)
+    stopped_running = []
+    stop = fastdownward._Running.stop
+
+    def recording_stop(self):
+        stopped_running.append(self.process.poll() is None)
+        stop(self)
+
+    monkeypatch.setattr(fastdownward._Running, "stop", recording_stop)
+    read_plan = fastdownward._read_plan
+
+    def recording_read(path, at):
+        found = read_plan(path, at)
+        if found is not None:
+            clock.plan_seen.append(at)
+        return found
+
+    monkeypatch.setattr(fastdownward, "_read_plan", recording_read)
     monkeypatch.chdir(tmp_path)
     before = _engine_processes()
-    start = time.perf_counter()
-    # the optimal search alone takes seconds here; LAMA's first plan a fraction of one
-    result = plan(*every_move_open, planner=planner, time_budget=1.0)
-    elapsed = time.perf_counter() - start
+    result = plan(
+        *sixteen_every_move_open,
+        planner=planner,
+        time_budget=1.0,
+        first_plan_limit=3600.0,
+        reduce_moves=False,
+    )
     assert result.status is Status.SOLVED
-    assert len(result.steps) >= 12 * 4
-    # the budget is improvement time after the first plan: the engines are stopped then, not
-    # left to finish (the slack is for stopping them and reading the plan on a loaded machine)
-    assert result.phases["first_plan"] < elapsed < result.phases["first_plan"] + 1.0 + 2.0
-    time.sleep(0.2)
+    assert len(result.steps) >= 16 * 4
+    first = min(clock.plan_seen)
+    assert first + 1.0 <= clock.now < first + 1.0 + 2 * fastdownward.POLL
+    assert stopped_running and all(stopped_running), "a search ended on its own: not the deadline's test"
     assert _engine_processes() - before == set(), "an engine process outlived the call"
     assert os.listdir(tmp_path) == ["tidy-12.pddl"], "the engine wrote into the working directory"
+
+
+class FakeClock:
+    """``time`` for tidyplan.fastdownward: ``perf_counter`` moves only in ``sleep`` (the call's
+    wait between looks), which waits for real until the searches have written something new, so
+    the searches make progress while the call's clock stands still. ``plan_seen`` holds the
+    clock's reading whenever a plan file was read."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+        self.plan_seen: list[float] = []
+
+    def perf_counter(self) -> float:
+        return self.now
+
+    def sleep(self, seconds: float) -> None:
+        time.sleep(seconds)  # real time for the searches; the call's clock moves by as much
+        self.now += seconds
 
 
 @pytest.mark.slow
@@ -149,11 +185,22 @@ def test_a_signal_mid_search_stops_tidyplan_and_its_engine(signum, status, tmp_p
     import signal
     import subprocess
 
-    problem = tmp_path / "tidy-12.pddl"
-    problem.write_text(tidygen.generate(1))
+    # LAMA on 16 objects with every move open improves for its whole budget (measured: 15 s of
+    # 15 s), so the search is running whenever the signal comes, however fast the machine
+    problem = tmp_path / "tidy-16.pddl"
+    problem.write_text(tidygen.generate(1, 16).replace("    (shortest-paths)\n", ""))
     before = _engine_processes(SEARCH_BINARY)
+    command = [
+        "plan",
+        str(ROOT / "domains" / "tidy.pddl"),
+        str(problem),
+        "--planner",
+        "lama",
+        "--time-budget",
+        "600",
+    ]
     run = subprocess.Popen(
-        [*tidyplan_cmd, "plan", str(ROOT / "domains" / "tidy.pddl"), str(problem), "--time-budget", "60"],
+        [*tidyplan_cmd, *command],
         cwd=tmp_path,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -161,18 +208,16 @@ def test_a_signal_mid_search_stops_tidyplan_and_its_engine(signum, status, tmp_p
         # a child of a non-interactive shell may inherit SIGINT ignored: restore the default
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.default_int_handler),
     )
-    for _ in range(300):  # until the search itself runs
-        if _engine_processes(SEARCH_BINARY) - before:
-            break
+    # until the search itself runs (or tidyplan ended without one: the assert below says so)
+    while not _engine_processes(SEARCH_BINARY) - before and run.poll() is None:
         time.sleep(0.05)
     assert _engine_processes(SEARCH_BINARY) - before, "the search never started"
     run.send_signal(getattr(signal, signum))
     _, err = run.communicate(timeout=30)
     assert run.returncode == status
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
-    time.sleep(0.3)
     assert _engine_processes(SEARCH_BINARY) - before == set()
-    assert sorted(os.listdir(tmp_path)) == ["tidy-12.pddl"]
+    assert sorted(os.listdir(tmp_path)) == ["tidy-16.pddl"]
 
 
 def test_the_mission_plans_with_lama_and_tidyplan_plan_with_lama_optimal():

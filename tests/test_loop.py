@@ -69,8 +69,13 @@ def _events(path) -> list[dict]:
 
 
 def _run(tmp_path, scenario, rates=EXACT, **kw):
+    """A mission under the cost-optimal search: its plans are the same whatever the machine's
+    speed or load (the anytime default's depend on how far it got), and each rule's test sees
+    the plan a good planner makes."""
     trace = tmp_path / "trace.jsonl"
-    summary = run(scenario, trace, Settings(rates=rates, time_budget=0.5, **kw))
+    summary = run(
+        scenario, trace, Settings(**{"rates": rates, "planner": "optimal", "time_budget": 0.5, **kw})
+    )
     return summary, _events(trace)
 
 

@@ -14,6 +14,7 @@ from dataclasses import asdict, replace
 from pathlib import Path
 
 import pytest
+from processes import descendants, still_running_after
 
 from tidyplan import sweep_report
 from tidyplan.cli import main
@@ -69,25 +70,10 @@ def _configs(seeds=range(4)) -> list[MissionConfig]:
     return grid([CASE1], list(seeds), ["ofsm"], [""], ["lama-first"], "symbolic")
 
 
-def _hangers_left() -> list[int]:
-    """Processes of the hanging stand-in still running, found by their command line: a mission
-    killed before it wrote its pid (a loaded machine starts it slowly) is checked too."""
-    left = []
-    for entry in Path("/proc").iterdir():
-        try:
-            if entry.name.isdigit() and b"sweep_fakes:hang" in (entry / "cmdline").read_bytes():
-                left.append(int(entry.name))
-        except OSError:
-            continue  # ended meanwhile
-    return left
-
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    return True
+def _hangers_left() -> set[int]:
+    """Processes of the hanging stand-in this test started that are still running (a mission
+    killed before it wrote its pid, on a loaded machine, is found too: tests/processes.py)."""
+    return still_running_after(descendants(b"sweep_fakes:hang"))
 
 
 # ------------------------------------------------------------------ the grid
@@ -169,9 +155,9 @@ def test_a_mission_whose_process_dies_is_a_crashed_row_with_its_last_output(fake
 def test_a_hanging_mission_is_killed_at_the_limit_and_recorded_as_a_timeout(fakes):
     rows = run_sweep(_configs(range(1)), fakes / "sweep", jobs=1, limit=1.0, target="sweep_fakes:hang")
     assert rows[0]["status"] == "timeout" and "killed" in rows[0]["error"]
-    assert _hangers_left() == []
+    assert _hangers_left() == set()
     pids = fakes / "pids.txt"  # written only if the mission got that far within the limit
-    assert not any(_alive(int(p)) for p in (pids.read_text().split() if pids.exists() else []))
+    assert not still_running_after({int(p) for p in (pids.read_text().split() if pids.exists() else [])})
 
 
 def test_report_pools_seeds_by_condition_and_counts_crashes_as_failures(fakes):
@@ -246,9 +232,9 @@ def test_on_ray_a_hanging_mission_is_a_timeout_row_and_leaves_no_process(fakes):
         _configs(range(1)), fakes / "ray", jobs=1, ray=True, limit=1.0, target="sweep_fakes:hang"
     )
     assert row["status"] == "timeout"
-    assert _hangers_left() == []
+    assert _hangers_left() == set()
     pids = fakes / "pids.txt"  # written only if the mission got that far within the limit
-    assert not any(_alive(int(p)) for p in (pids.read_text().split() if pids.exists() else []))
+    assert not still_running_after({int(p) for p in (pids.read_text().split() if pids.exists() else [])})
 
 
 def _same(row: dict) -> dict:

@@ -58,12 +58,16 @@ def start(job: dict, target: str = MISSION) -> tuple[subprocess.Popen, str, obje
     os.close(fd)
     os.unlink(result)  # the child writes it (renamed into place) only when the mission returned
     output = tempfile.TemporaryFile()  # the child's stdout and stderr: the tail explains a crash
+    # unbuffered, it and what it starts: a mission that dies (a segfault in the physics engine,
+    # os._exit) has written its last lines, which are the row's explanation
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     process = subprocess.Popen(
-        [sys.executable, "-m", "tidyplan.sweep_run", target, result],
+        [sys.executable, "-u", "-m", "tidyplan.sweep_run", target, result],
         stdin=subprocess.PIPE,
         stdout=output,
         stderr=subprocess.STDOUT,
         start_new_session=True,  # its own process group, killed whole
+        env=env,
     )
     with contextlib.suppress(BrokenPipeError):
         process.stdin.write(json.dumps(job).encode())
