@@ -4,7 +4,7 @@
 
 For each example task: the criterion c + R(1 − p) of (a) the default planner's
 plan, (b) the optimal plan of the compiled costs (the compilation's own error,
-without search error), and (c) the exact optimum (`tidyplan.exact`).
+without search error), and (c) the exact optimum (`tidyplan.planning.exact`).
 """
 
 from __future__ import annotations
@@ -12,9 +12,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from tidyplan.exact import exact_optimum
 from tidyplan.pddl.reader import read
-from tidyplan.planner import DEFAULT_ENGINE, plan
+from tidyplan.planning.exact import exact_optimum
+from tidyplan.planning.planner import DEFAULT_ENGINE, plan
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = [

@@ -32,8 +32,8 @@ def fill(scenario, room, deposit, order, rnd) -> tuple[list, list[str]]:
     import pybullet as p
 
     from sim.motion import settle
-    from tidyplan.exec.bullet import BulletWorld
-    from tidyplan.exec.world import Rates
+    from tidyplan.worlds.base import Rates
+    from tidyplan.worlds.pybullet.world import BulletWorld
 
     w = BulletWorld(
         scenario, room, seed=0, rates=Rates(1.0, 1.0, 1.0, false_negative=0.0, false_positive=0.0)
@@ -72,9 +72,9 @@ def fill(scenario, room, deposit, order, rnd) -> tuple[list, list[str]]:
 
 
 def main(argv: list[str]) -> int:
-    from sim.scenario import ScenarioError
-    from sim.scenario_file import load
-    from tidyplan.geometry import RoomMap
+    from sim.scenario.model import ScenarioError
+    from sim.scenario.read import load
+    from tidyplan.belief.geometry import RoomMap
 
     ap = argparse.ArgumentParser(prog="bench/fill.py", description=__doc__.strip().splitlines()[0])
     ap.add_argument("scenarios", nargs="+", metavar="SCENARIO")

@@ -20,9 +20,9 @@ sys.path.insert(0, str(ROOT))
 
 
 def main(argv: list[str]) -> int:
-    from sim.scenario import ScenarioError
-    from sim.scenario_file import load
-    from tidyplan.geometry import Placed, RoomMap
+    from sim.scenario.model import ScenarioError
+    from sim.scenario.read import load
+    from tidyplan.belief.geometry import Placed, RoomMap
 
     if not argv:
         print(__doc__.strip().splitlines()[2].strip(), file=sys.stderr)

@@ -40,7 +40,7 @@ def _problems(scenario: str, seed: int, replans: int, out: Path) -> list[tuple[P
 
 def _plan(domain: Path, problem: Path, budget: float, patience: float | None) -> tuple[float, float]:
     from tidyplan.pddl.reader import read
-    from tidyplan.planner import plan
+    from tidyplan.planning.planner import plan
 
     d, p = read(domain, problem)
     result = plan(d, p, planner="lama", time_budget=budget, reduce_moves=False, patience=patience)

@@ -24,7 +24,7 @@ sys.path.insert(0, str(ROOT / "bench"))
 import tidygen  # noqa: E402
 
 from tidyplan.pddl.reader import read  # noqa: E402
-from tidyplan.planner import plan  # noqa: E402
+from tidyplan.planning.planner import plan  # noqa: E402
 
 
 def main() -> None:

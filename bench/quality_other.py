@@ -35,13 +35,13 @@ sys.path.insert(0, str(ROOT / "bench"))
 import tidygen  # noqa: E402
 import tidygen_rooms  # noqa: E402
 
-from tidyplan import fastdownward as fd  # noqa: E402
-from tidyplan.engines import OPTIMAL_RACER, check_name  # noqa: E402
 from tidyplan.errors import PlannerError  # noqa: E402
 from tidyplan.pddl.compile import compile_task  # noqa: E402
 from tidyplan.pddl.reader import read  # noqa: E402
 from tidyplan.pddl.writer import domain_text, problem_text  # noqa: E402
-from tidyplan.planner import Status, plan  # noqa: E402
+from tidyplan.planning import fastdownward as fd  # noqa: E402
+from tidyplan.planning.engines import OPTIMAL_RACER, check_name  # noqa: E402
+from tidyplan.planning.planner import Status, plan  # noqa: E402
 
 DOMAIN = ROOT / "domains" / "tidy-rooms.pddl"
 GOOD = 1.05  # the bound on cost / optimum

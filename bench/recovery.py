@@ -42,8 +42,8 @@ def _row(r: dict) -> dict:
 def scenarios(ap: argparse.ArgumentParser, args: argparse.Namespace) -> dict[str, str]:
     """Label -> scenario file, each checked to load here, so a bad file is one message, not a
     crash per seed."""
-    from sim.scenario import ScenarioError
-    from sim.scenario_file import load
+    from sim.scenario.model import ScenarioError
+    from sim.scenario.read import load
 
     if args.scenarios:
         files = {Path(f).name.removesuffix(".toml"): str(Path(f).resolve()) for f in args.scenarios}
@@ -113,7 +113,7 @@ def main() -> int:
     args = ap.parse_args()
     faults = "" if args.faults.strip().lower() == "none" else args.faults
     from tidyplan.errors import InputError
-    from tidyplan.sweep import MissionConfig, canonical_faults
+    from tidyplan.sweep.grid import MissionConfig, canonical_faults
 
     try:
         canonical_faults(faults)
@@ -123,8 +123,8 @@ def main() -> int:
         ap.error("--seeds and --jobs must be at least 1")
     files = scenarios(ap, args)
     out = Path(args.out or tempfile.mkdtemp(prefix="tidyplan-recovery-"))
-    from tidyplan.engines import MISSION_ENGINE
-    from tidyplan.sweep import grid, run_sweep
+    from tidyplan.planning.engines import MISSION_ENGINE
+    from tidyplan.sweep.grid import grid, run_sweep
 
     configs = grid(
         list(files.values()),

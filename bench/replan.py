@@ -6,7 +6,7 @@
 For each size, a symbolic mission (12: problems/case3.toml; 48 and 96: bench/wrs.py's two-room
 layout, seed 0, 6 and 12 objects of each category in each room) runs until it has made
 `--replans` plans (then it is stopped: its trace stays readable). Each `plan` event carries the
-replan's phases (tidyplan/monitor/planning.py): the map's facts, building and checking the
+replan's phases (tidyplan/loop/replanning.py): the map's facts, building and checking the
 problem, compiling it, grounding it (the SAS task), the search, the commitment check. The same
 replan's problem, as the trace saved it in plain PDDL, is then given to Fast Downward's driver
 (`fast-downward.py --alias lama-first domain problem`, the whole process timed), and the ratio
@@ -60,7 +60,7 @@ def first_plans(
     scenario: Path, trace: Path, planner: str, seed: int, replans: int, budget: float
 ) -> list[dict]:
     """The `plan` events of a symbolic mission, stopped once it has made `replans` of them."""
-    from tidyplan.mission import Settings, run
+    from tidyplan.loop.mission import Settings, run
 
     made = []
 

@@ -27,8 +27,8 @@ def main() -> int:
     ap.add_argument("--first-seed", type=int, default=0)
     ap.add_argument("--planner", default="lama")
     ap.add_argument("--time-budget", type=float, default=1.0)
-    from tidyplan.engines import MISSION_PATIENCE
-    from tidyplan.sweep import grid, run_sweep
+    from tidyplan.planning.engines import MISSION_PATIENCE
+    from tidyplan.sweep.grid import grid, run_sweep
 
     ap.add_argument(
         "--patience", type=float, default=MISSION_PATIENCE, help="tidyplan run's --patience (0: off)"
@@ -69,7 +69,7 @@ def main() -> int:
 
     # tidyplan sweep's engine, one mission at a time (a wall time measured beside another
     # mission is no speed), each in a process of its own; the wall time is the mission's own
-    # (tidyplan.mission.run's clock), not the process's start-up
+    # (tidyplan.loop.mission.run's clock), not the process's start-up
     run_sweep(configs, out, jobs=1, on_row=show)
     print(f"mean {sum(ratios) / len(ratios):.0f}x real time over {len(ratios)} run(s); goal >= 100x")
     return 0 if min(ratios) >= 50 else 1

@@ -6,7 +6,7 @@ world's seeded object spawner places them, alone (layout one) or joined to the d
 
 writes ``DIR/wrs-<layout>-s<seed>.toml`` (seed with three digits) for each seed, never over an
 existing file unless ``--force``; bad options exit 2 with one message. Every file is read back
-with ``sim.scenario_file.load`` before it is put in place and must give the scenario generated;
+with ``sim.scenario.read.load`` before it is put in place and must give the scenario generated;
 if not, the script stops with the loader's messages (exit 1): that is a bug here.
 
 Why: cases I-III are three rooms built by hand for the paper's figures. A planner tuned on them
@@ -14,7 +14,7 @@ should also meet rooms it was not tuned on, drawn the way the competition draws 
 
 From ../shared/HSR.md (the WRS 2020 rules and Toyota's Gazebo world of the arena):
 - room 1 (the living room), its furniture, deposits and the robot's entrance: taken from
-  problems/case1.toml as read by ``sim.scenario_file.load`` (its viewpoints and bounds too);
+  problems/case1.toml as read by ``sim.scenario.read.load`` (its viewpoints and bounds too);
 - 12 objects, 3 in each of the 4 categories food, kitchen, tool, task (the O-FSM paper's choice;
   WRS used 5 categories), so ``[prior] count`` is 3 of each per room;
 - the spawn zones: floor x in [-1.0, -0.4], y in [-0.35, 1.35] takes half the objects, the long
@@ -52,9 +52,9 @@ from pathlib import Path
 from string import ascii_lowercase
 
 from sim.grid import Box
-from sim.scenario import FLOOR, Expect, Furniture, Item, Scenario, ScenarioError
-from sim.scenario_file import load
-from sim.scenario_write import dumps
+from sim.scenario.model import FLOOR, Expect, Furniture, Item, Scenario, ScenarioError
+from sim.scenario.read import load
+from sim.scenario.write import dumps
 
 ROOT = Path(__file__).resolve().parent.parent
 CASE1 = ROOT / "problems" / "case1.toml"

@@ -1,1 +1,8 @@
-"""The pybullet world of the HSR and the WRS room. Knows nothing of planning."""
+"""The simulated world the robot stands on, importing nothing of tidyplan: the scenario format
+(``scenario``), the occupancy grid whose path lengths are the move costs (``grid``), line of
+sight (``visibility``), and the pybullet physics: the HSR (``robot``, ``hsr.urdf``), the room
+(``room``), the head camera (``camera``), the base's collision checks (``motion``) and the
+drawers' joints (``drawer``).
+
+Imports: sim only; ``grid`` imports nothing of sim, ``scenario`` only ``grid``.
+"""

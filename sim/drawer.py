@@ -6,7 +6,7 @@ footprint and height with a slot where the drawer is (built of the boxes around 
 bounding box is the footprint: the robot's map, ``Room.as_built``, is of the closed carcass); the
 one link is the drawer, an open-top box (a bottom and four sides, one compound shape) with the
 handle's grip on its front, on a prismatic joint along the slide, 0 (closed, inside the carcass)
-to its travel. Where it is comes from ``sim.scenario.drawer_layout``.
+to its travel. Where it is comes from ``sim.scenario.model.drawer_layout``.
 
 The drawer is moved kinematically, as the robot is: ``drive`` sets the joint and a motor holds it
 there while physics steps (an object dropped in does not push it). A jam is the drawer's own
@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import pybullet as p
 
-from sim.scenario import BOARD, HANDLE, PLAY, DrawerLayout
+from sim.scenario.model import BOARD, HANDLE, PLAY, DrawerLayout
 
 DRAWER_MASS = 2.0  # kg: a wooden drawer of 12 mm boards (the motor holds it; the figure hardly matters)
 HOLD_FORCE = 500.0  # N: the motor that keeps it where it was put while physics steps

@@ -1,4 +1,4 @@
-"""The WRS tidy-up room in pybullet, built from a scenario file (``sim.scenario``).
+"""The WRS tidy-up room in pybullet, built from a scenario file (``sim.scenario.model``).
 
 Walls (1.5 m high, 0.3 m thick, standing outside the bounds) with the 1.2 m door at the
 entrance shut, furniture as solid boxes of the scenario's footprint and height (a bin: an open
@@ -29,7 +29,7 @@ import pybullet as p
 
 from sim import drawer
 from sim.robot import HSR
-from sim.scenario import Furniture, Scenario, drawer_layout
+from sim.scenario.model import Furniture, Scenario, drawer_layout
 
 # m: the WRS asks for 0.6 m at least; 1.5 m is above a 0.45 m box standing on the 0.94 m drawer
 # top, a deposit. 0.3 m thick: an item pressed into a wall, its centre up to 12 cm past the face,

@@ -24,7 +24,7 @@ from typing import Protocol
 
 import numpy as np
 
-from sim.scenario import Furniture, Item, Scenario
+from sim.scenario.model import Furniture, Item, Scenario
 
 Point3 = tuple[float, float, float]
 

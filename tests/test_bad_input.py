@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from tidyplan.cli import main
+from tidyplan.cli.main import main
 
 # A valid task that each test breaks in one place (tests/data, shared with test_cli_input.py).
 DOMAIN = (Path(__file__).parent / "data" / "baseline-domain.pddl").read_text()

@@ -1,11 +1,11 @@
-"""The belief's association of detections with believed items (tidyplan.belief)."""
+"""The belief's association of detections with believed items (tidyplan.belief.state)."""
 
 from __future__ import annotations
 
-from sim.scenario_file import loads
+from sim.scenario.read import loads
 from tests.test_loop import ROOM
-from tidyplan.belief import Belief, Detection
-from tidyplan.geometry import RoomMap
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.state import Belief, Detection
 
 # The test room of tests/test_loop.py with a second category and its deposit.
 BOOKS = """

@@ -9,18 +9,18 @@ from pathlib import Path
 
 import pytest
 
-from sim.scenario_file import load
-from tidyplan.belief import Belief
-from tidyplan.cli import main
+from sim.scenario.read import load
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.problem import write
+from tidyplan.belief.state import Belief
+from tidyplan.cli.main import main
 from tidyplan.exec import catalogue
 from tidyplan.exec.binding_check import check_bindings
 from tidyplan.exec.bindings import BUILD, MonitoredExecutor
 from tidyplan.exec.units import AdjustBase, Context, Grasp
-from tidyplan.geometry import RoomMap
-from tidyplan.mission import DOMAIN, project_file
+from tidyplan.loop.mission import DOMAIN, project_file
 from tidyplan.pddl.reader import parse
-from tidyplan.planner import Step
-from tidyplan.problem import write
+from tidyplan.planning.planner import Step
 
 TIDY = DOMAIN.read_text()
 
@@ -117,7 +117,7 @@ def test_a_word_of_the_problems_declared_otherwise_is_refused(write, capsys):
 
 
 def test_run_refuses_a_domain_it_cannot_run_before_the_world_starts(write, tmp_path, capsys, monkeypatch):
-    import tidyplan.mission as mission
+    import tidyplan.loop.mission as mission
 
     made = []
     monkeypatch.setattr(mission, "make_world", lambda *a, **k: made.append(a))

@@ -13,12 +13,12 @@ import numpy as np
 import pybullet as p
 import pytest
 
-from sim.scenario_file import loads
-from tidyplan.cli_run import parse_faults
-from tidyplan.exec.bullet import BACK_OFF, STEP, BulletWorld
-from tidyplan.exec.world import Rates
-from tidyplan.geometry import RoomMap
-from tidyplan.mission import Settings, run
+from sim.scenario.read import loads
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.cli.run import parse_faults
+from tidyplan.loop.mission import Settings, run
+from tidyplan.worlds.base import Rates
+from tidyplan.worlds.pybullet.world import BACK_OFF, STEP, BulletWorld
 
 NO_FALSE_DETECTIONS = Rates(false_negative=0.0, false_positive=0.0)
 BASE_RADIUS = 0.215  # m: the base's collision cylinder, 430 mm across (HSR.md)

@@ -10,11 +10,11 @@ from pathlib import Path
 
 import pytest
 
-from sim.scenario_file import load
+from sim.scenario.read import load
 from sim.visibility import visible_items
-from tidyplan.cli_run import parse_faults
-from tidyplan.geometry import ENTRANCE, Placed, RoomMap, deposit_waypoint
-from tidyplan.mission import Settings, run
+from tidyplan.belief.geometry import ENTRANCE, Placed, RoomMap, deposit_waypoint
+from tidyplan.cli.run import parse_faults
+from tidyplan.loop.mission import Settings, run
 
 PROBLEMS = Path(__file__).resolve().parent.parent / "problems"
 CASES = ["case1", "case2", "case3"]

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from tidyplan.cli import main
+from tidyplan.cli.main import main
 
 ROOT = Path(__file__).parent.parent
 TIDY = str(ROOT / "domains" / "tidy.pddl")
@@ -43,7 +43,7 @@ def test_plan_json_has_the_contract_fields(capsys):
 
 
 def test_not_found_in_time_exits_3_and_says_so(capsys, monkeypatch):
-    from tidyplan import fastdownward
+    from tidyplan.planning import fastdownward
 
     def out_of_time(sas, searches, first_deadline, improve, patience=None):
         return fastdownward.Result(fastdownward.Ending.OUT_OF_TIME, None)
@@ -155,8 +155,8 @@ def test_val_accepts_our_plans_on_the_compiled_pddl(domain, problem, tmp_path, c
     The dialect's plans (assumptions included: they are actions in plain PDDL)
     are valid there, and VAL's plan value is the compiled integer cost.
     """
-    from tidyplan.criterion import integer_cost
     from tidyplan.pddl.compile import compile_task
+    from tidyplan.pddl.criterion import integer_cost
     from tidyplan.pddl.reader import read
 
     assert main(["compile", domain, _problem(problem), "--out", str(tmp_path)]) == 0

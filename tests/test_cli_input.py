@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from tidyplan.cli import main
+from tidyplan.cli.main import main
 
 # A valid task that each test breaks in one place (tests/data, shared with test_bad_input.py).
 DOMAIN = (Path(__file__).parent / "data" / "baseline-domain.pddl").read_text()
@@ -140,8 +140,8 @@ def test_bad_option_is_one_line_and_exit_2(write, tmp_path, tidyplan_cmd, args, 
 
 # ---------------------------------------------------------------- run's scenario
 def test_a_shipped_scenario_is_found_by_its_name_and_a_file_here_comes_first(tmp_path, monkeypatch):
-    from tidyplan.cli_run import scenario_path
-    from tidyplan.mission import project_file
+    from tidyplan.cli.run import scenario_path
+    from tidyplan.loop.mission import project_file
 
     monkeypatch.chdir(tmp_path)
     assert scenario_path("case1") == project_file("problems/case1.toml")

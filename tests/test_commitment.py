@@ -10,18 +10,18 @@ from pathlib import Path
 import pytest
 
 from tests.test_loop import EXACT, _events, _plans, _scenario
-from tidyplan.belief import Belief
-from tidyplan.commitment import commitment, probability
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.state import Belief
 from tidyplan.exec.bindings import MonitoredExecutor
-from tidyplan.exec.symbolic import SymbolicWorld
-from tidyplan.geometry import RoomMap
-from tidyplan.mission import DOMAIN, Settings, run
-from tidyplan.monitor.loop import LoopConfig, Mission
-from tidyplan.monitor.triggers import Cause
+from tidyplan.loop.loop import LoopConfig, Mission
+from tidyplan.loop.mission import DOMAIN, Settings, run
+from tidyplan.loop.triggers import Cause
 from tidyplan.pddl.reader import parse
 from tidyplan.pddl.simulate import Simulator
-from tidyplan.planner import Step, plan
-from tidyplan.trace import TraceWriter
+from tidyplan.planning.commitment import commitment, probability
+from tidyplan.planning.planner import Step, plan
+from tidyplan.trace.writer import TraceWriter
+from tidyplan.worlds.symbolic import SymbolicWorld
 
 sys.path.insert(0, str(Path(__file__).parent.parent / "bench"))
 import wrs  # noqa: E402

@@ -19,10 +19,10 @@ import pytest
 
 from sim.motion import settle
 from sim.room import DOOR
-from sim.scenario_file import load
-from tidyplan.exec.bullet import BulletWorld
-from tidyplan.exec.world import Rates
-from tidyplan.geometry import RoomMap
+from sim.scenario.read import load
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.worlds.base import Rates
+from tidyplan.worlds.pybullet.world import BulletWorld
 
 pytestmark = pytest.mark.slow
 

@@ -12,12 +12,12 @@ import pybullet as p
 import pytest
 
 from sim.motion import TOUCH, base_contacts, contacts, settle
-from sim.scenario_file import load, loads
+from sim.scenario.read import load, loads
 from tests.test_containment import CASE1, _outside
-from tidyplan.exec.bullet import BulletWorld
-from tidyplan.exec.symbolic import SymbolicWorld
-from tidyplan.exec.world import Rates
-from tidyplan.geometry import RoomMap
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.worlds.base import Rates
+from tidyplan.worlds.pybullet.world import BulletWorld
+from tidyplan.worlds.symbolic import SymbolicWorld
 
 pytestmark = pytest.mark.slow
 

@@ -16,7 +16,7 @@ import pytest
 from tidyplan.pddl.compile import compile_task
 from tidyplan.pddl.reader import read
 from tidyplan.pddl.writer import domain_text, problem_text
-from tidyplan.planner import Status, plan
+from tidyplan.planning.planner import Status, plan
 
 # The files the dialect reader must accept although unified-planning's rejects them
 # (DIALECT.md §1): an action and a predicate sharing a name (floortile's `up`), a type

@@ -5,10 +5,10 @@ from pathlib import Path
 
 import pytest
 
-from tidyplan.criterion import choose_scale, integer_cost, score, surrogate
 from tidyplan.pddl.compile import compile_task
+from tidyplan.pddl.criterion import choose_scale, integer_cost, score, surrogate
 from tidyplan.pddl.reader import read
-from tidyplan.planner import Status, plan
+from tidyplan.planning.planner import Status, plan
 
 DATA = Path(__file__).parent / "data"
 

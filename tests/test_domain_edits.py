@@ -10,8 +10,8 @@ import math
 
 import pytest
 
-from tidyplan.cli import main
-from tidyplan.mission import DOMAIN, project_file
+from tidyplan.cli.main import main
+from tidyplan.loop.mission import DOMAIN, project_file
 
 pytestmark = pytest.mark.slow
 TIDY = DOMAIN.read_text()

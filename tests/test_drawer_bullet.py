@@ -11,12 +11,12 @@ import pybullet as p
 import pytest
 
 from sim.drawer import build
-from sim.scenario import drawer_layout
-from sim.scenario_file import load, loads
+from sim.scenario.model import drawer_layout
+from sim.scenario.read import load, loads
 from tests.test_drawer_world import SURE, TRAVEL, WRS_DRAWER, _approach
-from tidyplan.exec.symbolic import OPENING_S
-from tidyplan.exec.world import PULL_SPEED, Rates
-from tidyplan.geometry import RoomMap
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.worlds.base import PULL_SPEED, Rates
+from tidyplan.worlds.symbolic import OPENING_S
 
 
 @pytest.fixture(scope="module")
@@ -27,7 +27,7 @@ def scenario():
 @pytest.fixture
 def bullet(scenario):
     """``bullet(rates)``: the pybullet world of wrs-drawer.toml; every one made is closed."""
-    from tidyplan.exec.bullet import BulletWorld
+    from tidyplan.worlds.pybullet.world import BulletWorld
 
     made = []
 

@@ -9,8 +9,8 @@ import json
 
 import pytest
 
-from tidyplan.cli import main
-from tidyplan.mission import project_file
+from tidyplan.cli.main import main
+from tidyplan.loop.mission import project_file
 
 pytestmark = pytest.mark.slow
 

@@ -12,12 +12,12 @@ from pathlib import Path
 
 import pytest
 
-from sim.scenario import drawer_layout
-from sim.scenario_file import load
-from tidyplan.cli_run import parse_faults
-from tidyplan.exec.symbolic import HANDLE_S, OPENING_S, SymbolicWorld
-from tidyplan.exec.world import PULL_SPEED, Rates
-from tidyplan.geometry import RoomMap
+from sim.scenario.model import drawer_layout
+from sim.scenario.read import load
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.cli.run import parse_faults
+from tidyplan.worlds.base import PULL_SPEED, Rates
+from tidyplan.worlds.symbolic import HANDLE_S, OPENING_S, SymbolicWorld
 
 WRS_DRAWER = Path(__file__).resolve().parents[1] / "problems" / "wrs-drawer.toml"
 SURE = Rates(take=1.0, deliver=1.0, drop=1.0, false_negative=0.0, false_positive=0.0, handle_slip=0.0)

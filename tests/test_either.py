@@ -4,7 +4,7 @@ import pytest
 
 from tidyplan.pddl.compile import compile_task
 from tidyplan.pddl.reader import read
-from tidyplan.planner import Status, plan
+from tidyplan.planning.planner import Status, plan
 
 DOMAIN = """(define (domain carriers)
   (:requirements :typing :existential-preconditions)

@@ -9,10 +9,10 @@ from pathlib import Path
 import pytest
 from processes import descendants
 
-from tidyplan.engines import DEFAULT_ENGINE, ENGINES, engine_names
 from tidyplan.errors import PlannerError
 from tidyplan.pddl.reader import read
-from tidyplan.planner import Status, plan
+from tidyplan.planning.engines import DEFAULT_ENGINE, ENGINES, engine_names
+from tidyplan.planning.planner import Status, plan
 
 ROOT = Path(__file__).parent.parent
 sys.path.insert(0, str(ROOT / "bench"))
@@ -82,7 +82,7 @@ def test_anytime_search_stops_at_the_deadline_and_keeps_its_best_plan(
     clock: a clock that moves only when the call waits between its looks makes the deadline
     exact whatever the machine's load, and the searches still running then are stopped by the
     call, not left to finish."""
-    import tidyplan.fastdownward as fastdownward
+    import tidyplan.planning.fastdownward as fastdownward
 
     clock = FakeClock()
     monkeypatch.setattr(fastdownward, "time", clock)
@@ -123,7 +123,7 @@ def test_anytime_search_stops_at_the_deadline_and_keeps_its_best_plan(
 
 
 class FakeClock:
-    """``time`` for tidyplan.fastdownward: ``perf_counter`` moves only in ``sleep`` (the call's
+    """``time`` for tidyplan.planning.fastdownward: ``perf_counter`` moves only in ``sleep`` (the call's
     wait between looks), which waits for real until the searches have written something new, so
     the searches make progress while the call's clock stands still. ``plan_seen`` holds the
     clock's reading whenever a plan file was read."""
@@ -147,7 +147,7 @@ def test_an_interrupted_call_leaves_no_engine_running(planner, searches, every_m
     orphan them: each runs in a session of its own, so the terminal's SIGINT never reaches it and
     only our clean-up can stop it. The interrupt comes at the first wait for a plan, when every
     search has started (their processes are checked there), whatever the machine's speed."""
-    import tidyplan.fastdownward as fastdownward
+    import tidyplan.planning.fastdownward as fastdownward
 
     before = _engine_processes()
     running: list[set] = []
@@ -221,8 +221,8 @@ def test_a_signal_mid_search_stops_tidyplan_and_its_engine(signum, status, tmp_p
 
 
 def test_the_mission_plans_with_lama_and_tidyplan_plan_with_lama_optimal():
-    from tidyplan.engines import MISSION_ENGINE
-    from tidyplan.mission import Settings
+    from tidyplan.loop.mission import Settings
+    from tidyplan.planning.engines import MISSION_ENGINE
 
     assert Settings().planner == MISSION_ENGINE == "lama"
     assert DEFAULT_ENGINE == "lama-optimal"

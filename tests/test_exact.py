@@ -4,9 +4,9 @@ from pathlib import Path
 
 import pytest
 
-from tidyplan.exact import exact_optimum
 from tidyplan.pddl.reader import read
-from tidyplan.planner import plan
+from tidyplan.planning.exact import exact_optimum
+from tidyplan.planning.planner import plan
 
 DATA = Path(__file__).parent / "data"
 

@@ -1,5 +1,5 @@
-"""The grounder (`tidyplan.grounding`) against Fast Downward's own translator, and what it keeps
-from one task to the next; the translator run in this process (`tidyplan.fastdownward`)."""
+"""The grounder (`tidyplan.planning.grounding`) against Fast Downward's own translator, and what it keeps
+from one task to the next; the translator run in this process (`tidyplan.planning.fastdownward`)."""
 
 import os
 import sys
@@ -8,13 +8,13 @@ from pathlib import Path
 
 import pytest
 
-from tidyplan import fastdownward as fd
-from tidyplan import grounding
 from tidyplan.pddl.compile import compile_task
 from tidyplan.pddl.reader import read
 from tidyplan.pddl.simulate import Simulator
 from tidyplan.pddl.writer import domain_text, problem_text
-from tidyplan.planner import Status, plan
+from tidyplan.planning import fastdownward as fd
+from tidyplan.planning import grounding
+from tidyplan.planning.planner import Status, plan
 
 ROOT = Path(__file__).parent.parent
 TIDY = ROOT / "domains" / "tidy.pddl"
@@ -174,7 +174,7 @@ def test_the_sas_task_is_the_same_in_every_process():
 
     script = (
         "import sys; sys.path.insert(0, 'bench'); import tidygen, tempfile, pathlib\n"
-        "from tidyplan import grounding\n"
+        "from tidyplan.planning import grounding\n"
         "from tidyplan.pddl.compile import compile_task\n"
         "from tidyplan.pddl.reader import read\n"
         "p = pathlib.Path(tempfile.mkdtemp()) / 'p.pddl'\n"

@@ -11,7 +11,7 @@ from dataclasses import fields
 import pytest
 
 import tidyplan
-from tidyplan.mission import project_file
+from tidyplan.loop.mission import project_file
 
 
 def test_the_shipped_domain_and_scenarios_are_found_from_the_package():

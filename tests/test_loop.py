@@ -13,11 +13,11 @@ from dataclasses import replace
 
 import pytest
 
-from sim.scenario_file import loads
+from sim.scenario.read import loads
 from tidyplan.exec.bindings import MonitoredExecutor
-from tidyplan.exec.symbolic import SymbolicWorld
-from tidyplan.exec.world import Outcome, Rates
-from tidyplan.mission import Settings, run
+from tidyplan.loop.mission import Settings, run
+from tidyplan.worlds.base import Outcome, Rates
+from tidyplan.worlds.symbolic import SymbolicWorld
 
 # A toy in the far corner behind a crate as tall as a table: no look finds it and no grasp
 # reaches it until the crate (a toy too) is put away.
@@ -206,7 +206,7 @@ def test_when_nothing_more_can_be_done_the_referee_decides(tmp_path, monkeypatch
     # A false detection in the corner behind a cupboard: no grasp pose, no look can forget it. The
     # real toy is tidied; the loop ends with no plan for the phantom, and the referee finds the
     # room tidy: a success that says what the belief still held.
-    from tidyplan.belief import Detection
+    from tidyplan.belief.state import Detection
 
     real, looks = SymbolicWorld.look, {"n": 0}
 
@@ -351,13 +351,13 @@ def test_the_action_limit_grows_with_the_items_the_robot_knows_of(tmp_path):
     """O-FSM halts after a cap on actions: 25 for each item the robot is told of (or has seen, when
     more), never under 300. A fixed 300 stopped a 96-object room at 70 tidied (four actions a
     delivery); a 3-toy room keeps the floor of 300."""
-    from tidyplan.belief import Belief, Detection
+    from tidyplan.belief.geometry import RoomMap
+    from tidyplan.belief.state import Belief, Detection
     from tidyplan.exec.bindings import MonitoredExecutor
-    from tidyplan.exec.symbolic import SymbolicWorld
-    from tidyplan.geometry import RoomMap
-    from tidyplan.mission import DOMAIN
-    from tidyplan.monitor.loop import LoopConfig, Mission
-    from tidyplan.trace import TraceWriter
+    from tidyplan.loop.loop import LoopConfig, Mission
+    from tidyplan.loop.mission import DOMAIN
+    from tidyplan.trace.writer import TraceWriter
+    from tidyplan.worlds.symbolic import SymbolicWorld
 
     def cap(scenario, seen=()):
         room = RoomMap(scenario)
@@ -379,14 +379,14 @@ def test_the_action_limit_grows_with_the_items_the_robot_knows_of(tmp_path):
 def test_a_goal_not_planned_in_time_is_not_reported_as_proven(tmp_path):
     # The reason a mission ends tells "no plan" proven from a search that found no first plan
     # within its limit (nothing proven): a planner that never finds one in time.
-    from tidyplan.belief import Belief
+    from tidyplan.belief.geometry import RoomMap
+    from tidyplan.belief.state import Belief
     from tidyplan.exec.bindings import MonitoredExecutor
-    from tidyplan.exec.symbolic import SymbolicWorld
-    from tidyplan.geometry import RoomMap
-    from tidyplan.mission import DOMAIN
-    from tidyplan.monitor.loop import Mission
-    from tidyplan.planner import PlanResult, Status
-    from tidyplan.trace import NoTrace
+    from tidyplan.loop.loop import Mission
+    from tidyplan.loop.mission import DOMAIN
+    from tidyplan.planning.planner import PlanResult, Status
+    from tidyplan.trace.writer import NoTrace
+    from tidyplan.worlds.symbolic import SymbolicWorld
 
     def never_in_time(domain, problem, max_stratum):
         return PlanResult(Status.TIMEOUT, (), None, None, (), 0.0, "scripted", "out of time")

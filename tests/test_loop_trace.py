@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from tests.test_loop import _events, _plans, _run, _scenario
-from tidyplan.exec.world import Rates
-from tidyplan.mission import Settings, run
+from tidyplan.loop.mission import Settings, run
+from tidyplan.worlds.base import Rates
 
 
 def test_every_plan_event_names_its_saved_pddl(tmp_path):

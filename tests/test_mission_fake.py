@@ -1,4 +1,4 @@
-"""The loop (``tidyplan.monitor.loop.Mission``) with a scripted planner and a fake world: no Fast
+"""The loop (``tidyplan.loop.loop.Mission``) with a scripted planner and a fake world: no Fast
 Downward, no physics, no random draws, so each of the five replanning triggers of Brenner & Nebel
 (docs/loop.md) is made to happen on purpose and seen in the trace, in milliseconds.
 
@@ -15,16 +15,16 @@ from __future__ import annotations
 import itertools
 import math
 
-from sim.scenario_file import loads
-from tidyplan.belief import Belief, Detection
-from tidyplan.contract import Odometer, Outcome, TrueItem
-from tidyplan.criterion import Score
+from sim.scenario.read import loads
+from tidyplan.belief.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
+from tidyplan.belief.state import Belief, Detection
 from tidyplan.exec.bindings import MonitoredExecutor
-from tidyplan.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
-from tidyplan.mission import DOMAIN
-from tidyplan.monitor.loop import Mission
-from tidyplan.planner import PlanResult, Status, Step
-from tidyplan.trace import NoTrace
+from tidyplan.loop.loop import Mission
+from tidyplan.loop.mission import DOMAIN
+from tidyplan.pddl.criterion import Score
+from tidyplan.planning.planner import PlanResult, Status, Step
+from tidyplan.trace.writer import NoTrace
+from tidyplan.worlds.contract import Odometer, Outcome, TrueItem
 
 ROOM = """
 schema = 1

@@ -1,4 +1,4 @@
-"""Moves only to where there is work (`tidyplan.moves`): found in a domain's own words, the same
+"""Moves only to where there is work (`tidyplan.planning.moves`): found in a domain's own words, the same
 optimum as with every move open, and left alone wherever the argument for it does not hold."""
 
 from __future__ import annotations
@@ -10,11 +10,11 @@ from pathlib import Path
 
 import pytest
 
-from tidyplan.moves import reduce_moves
 from tidyplan.pddl.compile import compile_task
 from tidyplan.pddl.reader import read
 from tidyplan.pddl.simulate import Simulator
-from tidyplan.planner import Status, plan
+from tidyplan.planning.moves import reduce_moves
+from tidyplan.planning.planner import Status, plan
 
 # A fetch domain of its own words: the robot's place is a two-argument fluent (the robot is a
 # parameter), items are fetched into boxes, and one action reads the place without a constant.

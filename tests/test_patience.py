@@ -1,4 +1,4 @@
-"""The improvement's patience (`tidyplan.fastdownward._follow`): an anytime search is stopped once
+"""The improvement's patience (`tidyplan.planning.fastdownward._follow`): an anytime search is stopped once
 no cheaper plan has come for `patience` seconds, never past the time budget, and never while an
 optimal search runs beside it. A fake clock and scripted searches: nothing here depends on the
 machine's speed."""
@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 
-from tidyplan import fastdownward as fd
+from tidyplan.planning import fastdownward as fd
 
 
 class _Clock:

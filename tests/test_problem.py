@@ -5,12 +5,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from sim.scenario_file import load
-from tidyplan.belief import Belief
-from tidyplan.exec.symbolic import SymbolicWorld
-from tidyplan.geometry import RoomMap
+from sim.scenario.read import load
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.problem import write
+from tidyplan.belief.state import Belief
 from tidyplan.pddl.reader import parse
-from tidyplan.problem import write
+from tidyplan.worlds.symbolic import SymbolicWorld
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -36,7 +36,7 @@ def test_a_robot_shut_in_a_corner_by_an_item_it_dropped_grasps_it_from_where_it_
     from the entrance: with that, every way out was blocked by the item and no plan could start
     (case III with faults, seed 1: a cup dropped beside the container)."""
     from tests.test_loop import _scenario
-    from tidyplan.geometry import Placed
+    from tidyplan.belief.geometry import Placed
 
     scenario = _scenario("pocket", [("t1", 0.9, 2.5)])
     room = RoomMap(scenario)
@@ -53,7 +53,7 @@ def test_an_item_that_fell_unseen_is_no_obstacle_where_the_robot_stands():
     faults, seed 1, a cup dropped four times on the way to the container). It still gets a grasp
     pose, from which the pick-up looks for it."""
     from tests.test_loop import _scenario
-    from tidyplan.belief import Detection
+    from tidyplan.belief.state import Detection
 
     scenario = _scenario("fell", [("t1", 1.5, 2.0)])
     belief = Belief(scenario, RoomMap(scenario))
@@ -74,7 +74,7 @@ def _case1_belief():
 def test_the_problem_is_the_model_in_what_the_domain_declares():
     """Built for a domain, the problem has its name and only the predicates and functions it
     declares; the text saved beside the trace reads back to the same problem."""
-    from tidyplan.mission import DOMAIN
+    from tidyplan.loop.mission import DOMAIN
 
     tidy = DOMAIN.read_text()
     lean = tidy.replace("    (p-item-near ?w - waypoint) - number)", ")").replace(
@@ -91,7 +91,7 @@ def test_the_problem_is_the_model_in_what_the_domain_declares():
 
 
 def test_a_predicate_of_the_domains_own_comes_from_the_scenarios_facts_or_is_false():
-    from tidyplan.mission import DOMAIN
+    from tidyplan.loop.mission import DOMAIN
 
     own = DOMAIN.read_text().replace(
         "    (shortest-paths))", "    (shortest-paths)\n    (fragile ?d - deposit))"

@@ -1,4 +1,4 @@
-"""The rules of where and how the hand lets go (tidyplan/exec/bullet_put.py) and how far the arm
+"""The rules of where and how the hand lets go (tidyplan/worlds/pybullet/put.py) and how far the arm
 reaches (sim/robot.py), each checked on its own: pybullet's maths and one robot, no room."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import pybullet as p
 import pytest
 
 from sim.robot import HSR, REACHED, hand_level
-from tidyplan.exec.bullet_put import fits, heading, held_as, stood_up
+from tidyplan.worlds.pybullet.put import fits, heading, held_as, stood_up
 
 CRATE = (0.19, 0.19, 0.45)
 BIN = (-0.175, 0.175, -0.15, 0.15)  # a WRS bin's inside: 0.35 x 0.30

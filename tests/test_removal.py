@@ -1,6 +1,6 @@
 """Algorithm 1 (Yan et al.): the waypoint for removing a blocking object."""
 
-from tidyplan.removal import Waypoint, removal_waypoint
+from tidyplan.planning.removal import Waypoint, removal_waypoint
 
 # The situation of the paper's Fig. 3, as its text describes it: the robot holds
 # the closest blocking object; around it are waypoints used for grasping and for
@@ -72,8 +72,8 @@ def test_the_item_in_hand_goes_down_beside_the_robot_when_no_removal_waypoint_is
     # the drawer and the way to the one removal waypoint. Taking the box needs a free hand.
     from types import SimpleNamespace
 
-    from tidyplan.geometry import MapFacts
-    from tidyplan.problem import removal_choices
+    from tidyplan.belief.geometry import MapFacts
+    from tidyplan.belief.problem import removal_choices
 
     facts = MapFacts(
         points={

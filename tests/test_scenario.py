@@ -1,9 +1,9 @@
-"""sim.scenario: the TOML scenario format, its defaults and every validation message."""
+"""sim.scenario.model: the TOML scenario format, its defaults and every validation message."""
 
 import pytest
 
 from sim.grid import Box
-from sim.scenario import (
+from sim.scenario.model import (
     Deposit,
     DrawerSpec,
     Expect,
@@ -16,7 +16,7 @@ from sim.scenario import (
     Viewpoint,
     drawer_layout,
 )
-from sim.scenario_file import load, loads
+from sim.scenario.read import load, loads
 
 MINIMAL = """\
 schema = 1
@@ -361,8 +361,8 @@ def test_each_drawer_rule_has_its_message(old, new, message):
 def test_a_drawer_and_facts_are_written_out_and_read_back_unchanged():
     from dataclasses import replace
 
-    from sim.scenario_write import dumps
-    from tidyplan.mission import project_file
+    from sim.scenario.write import dumps
+    from tidyplan.loop.mission import project_file
 
     s = replace(
         load(project_file("problems/wrs-drawer.toml")), facts=(("fragile", "tray"), ("shortest-paths",))

@@ -7,8 +7,8 @@ import pytest
 
 from tidyplan.pddl.compile import compile_task
 from tidyplan.pddl.reader import read
-from tidyplan.planner import Status, plan
-from tidyplan.strata import Outcome, plan_by_strata, transition
+from tidyplan.planning.planner import Status, plan
+from tidyplan.planning.strata import Outcome, plan_by_strata, transition
 
 ROOT = Path(__file__).parent.parent
 TIDY = ROOT / "domains" / "tidy.pddl"
@@ -139,8 +139,8 @@ def test_table_one_transitions():
 
 def _searches_ending(monkeypatch, ending):
     """Every Fast Downward search of the planner ends so, without a plan."""
-    import tidyplan.fastdownward as fastdownward
-    import tidyplan.planner as planner
+    import tidyplan.planning.fastdownward as fastdownward
+    import tidyplan.planning.planner as planner
 
     calls = []
 
@@ -154,7 +154,7 @@ def _searches_ending(monkeypatch, ending):
 
 def test_an_incomplete_search_that_finds_nothing_proves_nothing(monkeypatch):
     """An incomplete search that ends without a plan is no proof: 'unknown', not 'no plan'."""
-    from tidyplan.fastdownward import Ending
+    from tidyplan.planning.fastdownward import Ending
 
     domain, prob = read(TIDY, ROOT / "problems" / "tidy-p1.pddl")
     _searches_ending(monkeypatch, Ending.GAVE_UP)
@@ -166,7 +166,7 @@ def test_an_incomplete_search_that_finds_nothing_proves_nothing(monkeypatch):
 
 
 def test_no_first_plan_in_time_is_its_own_status_and_stays_in_p1(monkeypatch):
-    from tidyplan.fastdownward import Ending
+    from tidyplan.planning.fastdownward import Ending
 
     domain, prob = read(TIDY, ROOT / "problems" / "tidy-p1.pddl")
     calls = _searches_ending(monkeypatch, Ending.OUT_OF_TIME)
@@ -180,7 +180,7 @@ def test_the_mission_hands_over_unproven_only_after_an_incomplete_search(monkeyp
     """The mission's call holds escalation back; only where an incomplete search ended without a
     plan (nothing proven, nothing more to wait for) is it made again letting P2 plan. Out of time
     it is not made again: the limit was spent."""
-    import tidyplan.mission as mission
+    import tidyplan.loop.mission as mission
 
     calls = []
 

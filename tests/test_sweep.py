@@ -16,11 +16,11 @@ from pathlib import Path
 import pytest
 from processes import descendants, still_running_after
 
-from tidyplan import sweep_report
-from tidyplan.cli import main
+from tidyplan.cli.main import main
 from tidyplan.errors import InputError
-from tidyplan.mission import project_file
-from tidyplan.sweep import RESULTS, MissionConfig, Table, canonical_faults, grid, parse_seeds, run_sweep
+from tidyplan.loop.mission import project_file
+from tidyplan.sweep import report as sweep_report
+from tidyplan.sweep.grid import RESULTS, MissionConfig, Table, canonical_faults, grid, parse_seeds, run_sweep
 
 CASE1 = str(project_file("problems/case1.toml"))
 
@@ -184,7 +184,7 @@ def test_report_by_named_fields_pools_the_rest(fakes, capsys):
 
 # ------------------------------------------------------------------ the command line
 def test_sweep_without_ray_installed_exits_2_naming_the_extra(monkeypatch, capsys, tmp_path):
-    from tidyplan import cli_sweep
+    from tidyplan.cli import sweep as cli_sweep
 
     monkeypatch.setattr(cli_sweep, "ray_missing", lambda: True)
     args = [CASE1, "--seeds", "0-1", "--world", "symbolic", "--out", str(tmp_path / "s")]
@@ -201,7 +201,7 @@ def test_sweep_refuses_bad_input_with_exit_2(capsys, tmp_path):
 
 @pytest.mark.slow
 def test_sweep_of_real_missions_matches_single_runs_and_reports(capsys, tmp_path):
-    from tidyplan.mission import Settings, run
+    from tidyplan.loop.mission import Settings, run
 
     out = tmp_path / "sweep"
     args = ["sweep", CASE1, "--seeds", "0-1", "--world", "symbolic", "--planner", "lama-first"]

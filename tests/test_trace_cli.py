@@ -18,11 +18,11 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-from tidyplan.cli import main
-from tidyplan.cli_run import parse_faults
-from tidyplan.mission import Settings, project_file, run
-from tidyplan.trace_plot import CLASS_COLOURS, PLAN_COLOURS
-from tidyplan.trace_read import adopted, read_trace, summarise
+from tidyplan.cli.main import main
+from tidyplan.cli.run import parse_faults
+from tidyplan.loop.mission import Settings, project_file, run
+from tidyplan.trace.plot import CLASS_COLOURS, PLAN_COLOURS
+from tidyplan.trace.read import adopted, read_trace, summarise
 
 CONTRACT = (
     "replans replan_causes actions strata recoveries distance_m sim_time_s wall_time_s success "

@@ -24,12 +24,12 @@ from pathlib import Path
 
 import pytest
 
-from tidyplan.cli import main
-from tidyplan.cli_run import parse_faults
-from tidyplan.mission import Settings, project_file, run
-from tidyplan.trace_diff import replan_diff
-from tidyplan.trace_html import keyframes, page, page_data, pose_at
-from tidyplan.trace_read import adopted, read_trace, summarise
+from tidyplan.cli.main import main
+from tidyplan.cli.run import parse_faults
+from tidyplan.loop.mission import Settings, project_file, run
+from tidyplan.trace.diff import replan_diff
+from tidyplan.trace.html import keyframes, page, page_data, pose_at
+from tidyplan.trace.read import adopted, read_trace, summarise
 
 CHROMIUM = Path("/usr/bin/chromium")
 NEEDS_CHROMIUM = pytest.mark.skipif(

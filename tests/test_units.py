@@ -9,11 +9,11 @@ import math
 from dataclasses import replace
 
 from tests.test_loop import EXACT, _scenario
-from tidyplan.exec.symbolic import SymbolicWorld
-from tidyplan.exec.world import Outcome
-from tidyplan.geometry import Placed, RoomMap
-from tidyplan.mission import Settings, run
+from tidyplan.belief.geometry import Placed, RoomMap
+from tidyplan.loop.mission import Settings, run
 from tidyplan.monitor.unit import FailureClass, StateMonitor
+from tidyplan.worlds.base import Outcome
+from tidyplan.worlds.symbolic import SymbolicWorld
 
 
 def _holding_world(rates):
@@ -92,7 +92,7 @@ def test_an_item_forgotten_by_a_later_look_of_the_same_action_is_not_reported_ne
     """An action looks more than once (a unit's check, the closing look): a phantom first seen by
     one look and forgotten by the next is not among the action's new items, so the loop never
     tries to bind or plan for an item the belief no longer holds."""
-    from tidyplan.belief import Belief, Detection
+    from tidyplan.belief.state import Belief, Detection
     from tidyplan.exec.units import Context
 
     scenario = _scenario("phantom", [("t1", 1.8, 1.0)])
@@ -170,7 +170,7 @@ def test_an_item_beside_the_base_is_not_forgotten_by_looks_that_cannot_see_the_f
     base is blind, so looks that miss an item lying there are no evidence it is gone (in pybullet,
     a box dropped beside the robot was forgotten and then driven into). The same item farther out,
     in plain view, is forgotten after as many misses."""
-    from tidyplan.belief import FORGET_AFTER, Belief, Detection
+    from tidyplan.belief.state import FORGET_AFTER, Belief, Detection
 
     scenario = _scenario("beside", [("t1", 1.8, 1.0)])
     belief = Belief(scenario, RoomMap(scenario))
@@ -189,7 +189,7 @@ def test_a_look_that_confirms_an_item_takes_its_place_and_extent_as_it_lies_now(
     """A tall box knocked over covers more floor, a cup knocked aside lies elsewhere: the look that
     confirms them says so, and the map the robot plans on follows (in pybullet the belief kept a
     toppled toolbox upright, and the base drove into it again and again)."""
-    from tidyplan.belief import Belief, Detection
+    from tidyplan.belief.state import Belief, Detection
 
     scenario = _scenario("toppled", [("t1", 1.8, 1.0)])
     belief = Belief(scenario, RoomMap(scenario))
@@ -207,7 +207,7 @@ def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():
     """drop_object puts the item on a ring around the base: 0.45 m out, or farther for a long one,
     so that turned any way it leaves the robot's own cell free (a toolbox lying, 0.45 m long, put
     down 0.45 m out shut the robot in beside it: case III with faults, seed 3)."""
-    from tidyplan.belief import Belief, Detection
+    from tidyplan.belief.state import Belief, Detection
     from tidyplan.exec.units import Context, PutDown
 
     scenario = _scenario("long", [("t1", 1.5, 1.0, (0.45, 0.19, 0.19))])

@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from sim.scenario import Furniture, Item
-from sim.scenario_file import loads
+from sim.scenario.model import Furniture, Item
+from sim.scenario.read import loads
 from sim.visibility import Box3, in_field_of_view, segment_hits_box, visible, visible_items
 
 CAMERA = (0.0, 0.0, 1.0)

@@ -1,5 +1,5 @@
-"""The world contract (tidyplan.contract) and the registry of worlds (tidyplan.worlds): each world
-the registry names implements the skills and the referee, and the command line offers exactly
+"""The world contract (tidyplan.worlds.contract) and the registry of worlds
+(tidyplan.worlds.registry): each world the registry names implements the skills and the referee, and the command line offers exactly
 the registered worlds."""
 
 from __future__ import annotations
@@ -8,12 +8,12 @@ from pathlib import Path
 
 import pytest
 
-from sim.scenario_file import load
-from tidyplan.cli import _parser
-from tidyplan.contract import Referee, Skills, World
-from tidyplan.geometry import RoomMap
-from tidyplan.mission import Settings, make_world
-from tidyplan.worlds import WORLDS, world_class
+from sim.scenario.read import load
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.cli.main import _parser
+from tidyplan.loop.mission import Settings, make_world
+from tidyplan.worlds.contract import Referee, Skills, World
+from tidyplan.worlds.registry import WORLDS, world_class
 
 CASE1 = Path(__file__).resolve().parents[1] / "problems" / "case1.toml"
 

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import pytest
 
-from sim.scenario import FLOOR
-from sim.scenario_file import load
+from sim.scenario.model import FLOOR
+from sim.scenario.read import load
 
 sys.path.insert(0, str(Path(__file__).parent.parent / "bench"))
 import wrs  # noqa: E402

@@ -1,8 +1,8 @@
-"""The WRS Tidy Up score (../shared/HSR.md, "Scoring") counted from trace events (tidyplan/wrs.py)."""
+"""The WRS Tidy Up score (../shared/HSR.md, "Scoring") counted from trace events (tidyplan/trace/score.py)."""
 
 from __future__ import annotations
 
-from tidyplan.wrs import WrsTally, wrs_score
+from tidyplan.trace.score import WrsTally, wrs_score
 
 
 def _start(n: int = 2) -> dict:

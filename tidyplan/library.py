@@ -4,7 +4,7 @@
     s = tidyplan.run("case3", world="symbolic", seed=1)
     s.success, s.delivered, s.replans
 
-A scenario is a ``sim.scenario.Scenario``, a scenario file, or the name of one the package ships
+A scenario is a ``sim.scenario.model.Scenario``, a scenario file, or the name of one the package ships
 (``case1``, ``case2``, ``case3``). A trace is written only when ``trace`` names a file (never
 over an existing one). Bad input raises ``tidyplan.InputError`` with the message the command
 line prints; a mission that fails is a summary with ``success`` False, not an exception.
@@ -16,9 +16,9 @@ import math
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
-from tidyplan.engines import MISSION_PATIENCE
 from tidyplan.errors import InputError, PlannerError
-from tidyplan.worlds import WORLDS
+from tidyplan.planning.engines import MISSION_PATIENCE
+from tidyplan.worlds.registry import WORLDS
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,7 +49,7 @@ class Summary:
     wall_time_s: float
     replan_time_s: dict[str, float]  # median, max
     trace: str | None  # the trace's path; None when none was written
-    wrs_score: float  # the WRS Tidy Up score (tidyplan.wrs) within time_limit_s
+    wrs_score: float  # the WRS Tidy Up score (tidyplan.trace.score) within time_limit_s
     time_limit_s: float  # simulated seconds the WRS referee allows
 
     @classmethod
@@ -87,12 +87,12 @@ def run(
     dialect, each action bound to units the worlds offer, the words the problems are written in
     (``tidyplan check DOMAIN`` prints the same). ``options="cli"`` names the options in messages
     as the command line spells them (``--max-recovery``)."""
-    from sim.scenario import Scenario
-    from tidyplan.cli_run import _scenario, parse_faults
-    from tidyplan.engines import MISSION_ENGINE, check_name
-    from tidyplan.mission import DOMAIN, Settings, project_file
-    from tidyplan.mission import run as run_mission
-    from tidyplan.strata import STRATEGIES
+    from sim.scenario.model import Scenario
+    from tidyplan.cli.run import _scenario, parse_faults
+    from tidyplan.loop.mission import DOMAIN, Settings, project_file
+    from tidyplan.loop.mission import run as run_mission
+    from tidyplan.planning.engines import MISSION_ENGINE, check_name
+    from tidyplan.planning.strata import STRATEGIES
 
     def name(key: str) -> str:
         return "--" + key.replace("_", "-") if options == "cli" else key

@@ -1,6 +1,6 @@
 """Checks that a domain can be run, before anything runs: each executable action bound to units of
 the catalogue (``tidyplan.exec.catalogue``) with arguments of the right kind, and the words the
-worlds' problems are written in (``tidyplan.problem.VOCABULARY``) declared as the writer uses them.
+worlds' problems are written in (``tidyplan.belief.problem.VOCABULARY``) declared as the writer uses them.
 
 ``tidyplan check DOMAIN`` prints these diagnostics beside the dialect's own; ``tidyplan run
 --domain FILE`` refuses a domain with any error among them, exit 2, before a world is made. A
@@ -10,10 +10,10 @@ its summary line, ``run`` refuses it.
 
 from __future__ import annotations
 
+from tidyplan.belief.problem import GOAL, VOCABULARY, VOCABULARY_FUNCTIONS, VOCABULARY_TYPES
 from tidyplan.errors import Diagnostic
 from tidyplan.exec.catalogue import UNITS, UnitSpec
 from tidyplan.pddl import model as m
-from tidyplan.problem import GOAL, VOCABULARY, VOCABULARY_FUNCTIONS, VOCABULARY_TYPES
 
 
 def check_bindings(domain: m.Domain, for_run: bool = False) -> list[Diagnostic]:
@@ -108,7 +108,7 @@ def check_facts(domain: m.Domain, scenario) -> list[Diagnostic]:
     """A scenario's ``facts`` against the domain: each of a predicate it declares, with as many
     arguments, none of the words the writer fills from the belief, each argument a name the
     problems have (a deposit, a category, a viewpoint, a deposit's waypoint) or a constant."""
-    from tidyplan.geometry import ENTRANCE, deposit_waypoint
+    from tidyplan.belief.geometry import ENTRANCE, deposit_waypoint
 
     names = {d.name for d in scenario.deposits} | {d.category for d in scenario.deposits}
     names |= {v.name for v in scenario.viewpoints} | {deposit_waypoint(d.name) for d in scenario.deposits}
@@ -133,7 +133,7 @@ def check_facts(domain: m.Domain, scenario) -> list[Diagnostic]:
 
 def offered() -> list[tuple[UnitSpec, list[str]]]:
     """Each catalogue unit with the worlds that have every skill it calls."""
-    from tidyplan.worlds import WORLDS, quiet_import, world_class
+    from tidyplan.worlds.registry import WORLDS, quiet_import, world_class
 
     with quiet_import():
         classes = {name: world_class(name) for name in WORLDS}

@@ -22,7 +22,8 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from tidyplan.belief import Belief
+from tidyplan.belief.problem import Snapshot, robot_waypoint
+from tidyplan.belief.state import Belief
 from tidyplan.errors import PlannerError
 from tidyplan.exec import catalogue as cat
 from tidyplan.exec.context import Context
@@ -32,8 +33,7 @@ from tidyplan.exec.units import AdjustBase, AlignAtDeposit, Grasp, Look, Navigat
 from tidyplan.monitor.recovery import RecoveryConfig, Runner
 from tidyplan.monitor.unit import Unit
 from tidyplan.pddl import model as m
-from tidyplan.planner import Step
-from tidyplan.problem import Snapshot, robot_waypoint
+from tidyplan.planning.planner import Step
 
 
 @dataclass(slots=True)

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 class UnitSpec:
     name: str
     parameters: tuple[tuple[str, str], ...]  # (role, kind) in order
-    skills: tuple[str, ...]  # what the unit calls on a world (tidyplan.contract.Skills)
+    skills: tuple[str, ...]  # what the unit calls on a world (tidyplan.worlds.contract.Skills)
     summary: str
 
     @property

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from tidyplan.belief import Belief
-from tidyplan.contract import Skills
+from tidyplan.belief.state import Belief
+from tidyplan.worlds.contract import Skills
 
 Point = tuple[float, float]
 AT_POSE = 0.03  # m: the robot stands at a pose when this close

@@ -6,9 +6,9 @@ from __future__ import annotations
 import math
 
 from sim.grid import Box
+from tidyplan.belief.geometry import free_spots
 from tidyplan.exec.catalogue import PUT_DOWN
 from tidyplan.exec.context import Context, Point
-from tidyplan.geometry import free_spots
 from tidyplan.monitor.unit import Failure, FailureClass, StateMonitor, Unit
 
 A, B = FailureClass.A, FailureClass.B

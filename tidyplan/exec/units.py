@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 
+from tidyplan.belief.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN
 from tidyplan.exec.catalogue import (
     ADJUST_BASE,
     ADJUST_POSE,
@@ -31,7 +32,6 @@ from tidyplan.exec.catalogue import (
 )
 from tidyplan.exec.context import AT_POSE, Context, Point
 from tidyplan.exec.put_down import PutDown
-from tidyplan.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN
 from tidyplan.monitor.unit import Failure, FailureClass, StateMonitor, Unit
 
 A, B, C = FailureClass.A, FailureClass.B, FailureClass.C

@@ -1,1 +1,6 @@
-"""The execution monitor (Yamazaki et al.): behaviour units and layered recovery."""
+"""The execution monitor (Yamazaki et al.): the behaviour unit's check / plan / do with its
+status and failure class (A, B, C) (``unit``), and the layered recovery that retries, inserts
+a unit or goes back to an earlier one and caps its iterations (``recovery``).
+
+Layer 3. Imports: nothing of tidyplan (it runs units it is given).
+"""

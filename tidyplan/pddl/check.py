@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from ..errors import Diagnostic
-from . import model as m
+from tidyplan.errors import Diagnostic
+from tidyplan.pddl import model as m
 
 KNOWN_REQUIREMENTS = frozenset(
     ":strips :typing :negative-preconditions :disjunctive-preconditions :equality "

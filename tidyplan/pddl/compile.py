@@ -3,12 +3,12 @@
 What each extension becomes (DIALECT.md §2–3):
 
 - `:probability` and the action's own cost become one integer cost,
-  `round(S · (c(a) + R · −ln p(a)))` (see `tidyplan.criterion`). Where c or p
+  `round(S · (c(a) + R · −ln p(a)))` (see `tidyplan.pddl.criterion`). Where c or p
   depends on the parameters through static functions, the cost becomes a new
   static function `<action>-cost` over those parameters, tabulated from :init.
 - `(:assumption ...)` becomes an action; `ActionInfo.is_assumption` remembers.
 - `:stratum K` is kept in `ActionInfo`; `restrict()` drops the actions above
-  a stratum (the lexicographic ranking lives in `tidyplan.strata`).
+  a stratum (the lexicographic ranking lives in `tidyplan.planning.strata`).
 - `(:virtual-objects ...)` become objects; `(:goal-reward R)` enters the costs.
 - Names that clash (a type and a predicate both called `cart`, an action and
   a predicate both called `up`) are renamed so that unified-planning, whose
@@ -23,12 +23,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from ..criterion import DEFAULT_REWARD, choose_scale, integer_cost
-from ..errors import Diagnostic, PddlError
-from . import model as m
-from .check import COST
-from .either import compile_either
-from .static import _effect_predicates, fold
+from tidyplan.errors import Diagnostic, PddlError
+from tidyplan.pddl import model as m
+from tidyplan.pddl.check import COST
+from tidyplan.pddl.criterion import DEFAULT_REWARD, choose_scale, integer_cost
+from tidyplan.pddl.either import compile_either
+from tidyplan.pddl.static import _effect_predicates, fold
 
 EXTENSION_FLAGS = (":probabilities", ":assumptions", ":strata")
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from . import model as m
+from tidyplan.pddl import model as m
 
 
 def _either_types(domain: m.Domain, problem: m.Problem) -> set[str]:

@@ -16,11 +16,11 @@ from pathlib import Path
 
 import lark
 
-from ..errors import Diagnostic, PddlError
-from . import model as m
-from .check import check_domain, check_problem
-from .syntax import describe, never_closed, open_parentheses
-from .transform import Build, paren_before
+from tidyplan.errors import Diagnostic, PddlError
+from tidyplan.pddl import model as m
+from tidyplan.pddl.check import check_domain, check_problem
+from tidyplan.pddl.syntax import describe, never_closed, open_parentheses
+from tidyplan.pddl.transform import Build, paren_before
 
 GRAMMAR = Path(__file__).with_name("grammar.lark")
 _MAX_BYTES = 64 * 1024 * 1024  # a PDDL file larger than this is not what the user meant

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from . import model as m
+from tidyplan.pddl import model as m
 
 
 def static_flags(domain: m.Domain, problem: m.Problem) -> dict[str, bool]:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import lark
 
-from ..errors import Diagnostic, PddlError
+from tidyplan.errors import Diagnostic, PddlError
 
 
 def open_parentheses(text: str, path: str, stop: int | None = None) -> list[tuple[int, int]]:

@@ -23,9 +23,9 @@ from unified_planning.model import (
     Variable,
 )
 
-from ..errors import PlannerError
-from . import model as m
-from .check import COST
+from tidyplan.errors import PlannerError
+from tidyplan.pddl import model as m
+from tidyplan.pddl.check import COST
 
 UNDEFINED_COST = 10**7  # cost of a grounding whose cost the file leaves undefined
 

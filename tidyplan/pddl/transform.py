@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from lark import Token, Transformer
 
-from . import model as m
+from tidyplan.pddl import model as m
 
 
 def _pos(token: Token) -> m.Pos:

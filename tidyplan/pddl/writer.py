@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from . import model as m
+from tidyplan.pddl import model as m
 
 
 def _typed(items: tuple[m.Typed, ...]) -> str:

@@ -1,0 +1,380 @@
+"""The room as the planner sees it: waypoints, paths k(x, y), reachability h(x, y), obstructions.
+
+Yan et al. plan over "the length of a feasible path" between robot, object and deposit (Eq. 2-4)
+on an occupancy grid that the robot "maintains dynamically according to the position of the
+objects detected". This module turns a scenario's static map plus a list of placed items (where
+the belief, or the hidden truth, has them) into the facts of ``domains/tidy.pddl``:
+
+- a waypoint for the entrance, each viewpoint, each deposit (where the robot stands to deliver)
+  and each item (where it stands to grasp it);
+- ``path``/``distance`` for every pair joined on the grid with the floor items as obstacles;
+- ``blocked``/``blocks`` for pairs joined only once some floor item is taken away (P3's case);
+- ``pose-adjustment`` into a grasp or delivery pose that the navigation grid, inflated by a
+  safety margin, cannot reach but the bare footprint fits (P2's "additional motions ... to
+  obtain a feasible and collision-free grasping pose").
+
+Two grids: navigation plans with the footprint plus a margin (as a costmap's inflation does);
+the bare footprint decides where a careful pose adjustment may still go.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sim.grid import Box, OccupancyGrid
+from sim.scenario.model import Scenario
+
+Point = tuple[float, float]
+
+# m from the item: the arm's comfortable reach; the minimum keeps the pose outside the item's own
+# inflation (0.27 m + half its 8 cm), so an item never blocks the pose it is grasped from
+GRASP_MIN, GRASP_BEST, GRASP_MAX = 0.35, 0.45, 0.65
+ADJUST_MAX = 0.60  # m: the longest pose adjustment, a short careful omnidirectional move
+ENTRANCE = "wp-entrance"
+
+
+@dataclass(frozen=True, slots=True)
+class Placed:
+    """An item where someone (the belief or the truth) has it: on the floor or on furniture."""
+
+    name: str
+    category: str
+    x: float
+    y: float
+    on: str = "floor"
+    sx: float = 0.08
+    sy: float = 0.08
+    # Fell where no look has found it yet: (x, y) is only where the robot stood, so it is no
+    # obstacle on the map (put there it shut the robot in on every side, and no plan could start).
+    loose: bool = False
+
+    @property
+    def xy(self) -> Point:
+        return (self.x, self.y)
+
+    @property
+    def on_floor(self) -> bool:
+        """On the floor where the map knows it: an obstacle to the base."""
+        return self.on == "floor" and not self.loose
+
+    def box(self) -> Box:
+        return Box(self.x, self.y, self.sx, self.sy, self.name)
+
+
+@dataclass(slots=True)
+class MapFacts:
+    """What the grid says for one set of placed items; the problem writer's input.
+
+    ``points`` maps every waypoint name to (x, y); ``kind`` to one of entrance, viewpoint,
+    deposit, grasp, adjust, robot. Pairs are ordered (from, to). A pair is in at most one of
+    ``path`` (drivable now) and ``blocked`` (drivable once its blockers are taken).
+    """
+
+    points: dict[str, Point] = field(default_factory=dict)
+    kind: dict[str, str] = field(default_factory=dict)
+    grasp: dict[str, str] = field(default_factory=dict)  # item -> its grasp waypoint
+    unreachable: list[str] = field(default_factory=list)  # items with no grasp pose at all
+    path: dict[tuple[str, str], float] = field(default_factory=dict)
+    blocked: dict[tuple[str, str], float] = field(default_factory=dict)
+    blocks: set[tuple[str, str, str]] = field(default_factory=set)  # (item, from, to)
+    adjust: dict[tuple[str, str], float] = field(default_factory=dict)
+    reach_blockers: dict[str, tuple[str, ...]] = field(default_factory=dict)  # grasp wp -> items
+
+    def distance(self, a: str, b: str) -> float | None:
+        for table in (self.path, self.blocked, self.adjust):
+            if (a, b) in table:
+                return table[(a, b)]
+        return None
+
+
+class RoomMap:
+    """The static map of a scenario and the facts it gives for any placement of items.
+
+    Grids are cached by their set of floor obstacles: a replan after a failed grasp sees the
+    same floor and costs nothing here.
+    """
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.scenario = scenario
+        self.nav_radius = scenario.robot.radius + scenario.robot.nav_margin
+        self.bare_radius = scenario.robot.radius
+        self._origin: Point = (0.0, 0.0)  # where reachability is counted from, set by facts()
+        self._grids: dict[tuple[float, frozenset[Box]], OccupancyGrid] = {}
+        self._bare_cells: tuple[list[Point], np.ndarray] | None = None  # for _ring
+        static = self.grid(())
+        self.entrance = static.nearest_free(*scenario.entrance)
+        self.fixed: dict[str, Point] = {ENTRANCE: self.entrance}
+        self.fixed_kind: dict[str, str] = {ENTRANCE: "entrance"}
+        for v in scenario.viewpoints:
+            self.fixed[v.name] = static.nearest_free(v.x, v.y, reachable_from=self.entrance)
+            self.fixed_kind[v.name] = "viewpoint"
+        for d in scenario.deposits:
+            name = deposit_waypoint(d.name)
+            if d.approach is not None:
+                self.fixed[name] = d.approach
+            else:  # in front of the deposit where the navigation grid reaches
+                self.fixed[name] = static.nearest_free(d.x, d.y, reachable_from=self.entrance)
+            self.fixed_kind[name] = "deposit"
+
+    def add_viewpoint(self, name: str, point: Point) -> None:
+        """A viewpoint beyond the scenario's (generated from the map by the belief)."""
+        self.fixed[name], self.fixed_kind[name] = point, "viewpoint"
+
+    # ------------------------------------------------------------------ grids
+    def grid(self, floor: Iterable[Box], *, bare: bool = False) -> OccupancyGrid:
+        """The occupancy grid with the furniture and these floor boxes, navigation or bare radius."""
+        radius = self.bare_radius if bare else self.nav_radius
+        key = (radius, frozenset(floor))
+        if key not in self._grids:
+            if len(self._grids) > 64:  # a mission sees a few dozen floors; keep memory bounded
+                self._grids.clear()
+            boxes = tuple(f.box() for f in self.scenario.furniture) + tuple(sorted(key[1], key=_box_key))
+            self._grids[key] = OccupancyGrid(self.scenario.bounds, boxes, radius=radius)
+        return self._grids[key]
+
+    # ------------------------------------------------------------------ facts
+    def facts(
+        self,
+        items: Sequence[Placed],
+        robot: tuple[str, Point] | None = None,
+        sticky: dict[str, Point] | None = None,
+        avoid: dict[str, list[Point]] | None = None,
+    ) -> MapFacts:
+        """Waypoints and path facts with ``items`` where they are; ``robot`` = (name, point) adds
+        the robot's pose under that name (the waypoint it last reached, which may be gone from the
+        map: the grasp pose of the item now in its hand) when no waypoint is there already.
+        ``sticky`` holds grasp poses chosen before: kept while still usable, so a plan's waypoints
+        survive a replan."""
+        floor = [p.box() for p in items if p.on_floor]
+        nav, static, bare = self.grid(floor), self.grid(()), self.grid(floor, bare=True)
+        facts = MapFacts(points=dict(self.fixed), kind=dict(self.fixed_kind))
+        # Reachable from where the robot is, not from the entrance: an item that fell by the door
+        # shuts the entrance's cell, not the room (case III with faults had no grasp pose left),
+        # and one dropped beside the robot in a corner shuts the robot in: the grasp pose that
+        # frees it must be one it reaches from there (case III with faults, seed 1).
+        self._origin = self.entrance
+        if robot is not None:
+            q = robot[1]
+            self._origin = q if nav.free(*q) else nav.nearest_free(*q)
+        reachable = set(nav.free_cells(reachable_from=self._origin))
+        for p in sorted(items, key=lambda p: p.name):
+            bad = (avoid or {}).get(p.name, [])
+            self._add_grasp(facts, p, floor, nav, static, bare, reachable, (sticky or {}).get(p.name), bad)
+        if robot is not None and robot[0] not in facts.points:
+            # under its own name even beside another waypoint: the plan being executed says it
+            facts.points[robot[0]], facts.kind[robot[0]] = robot[1], "robot"
+        elif robot is not None and not any(math.dist(robot[1], q) < 0.03 for q in facts.points.values()):
+            facts.points["wp-robot"], facts.kind["wp-robot"] = robot[1], "robot"
+        self._add_paths(facts, items, nav, static)
+        return facts
+
+    def _add_grasp(self, facts, p, floor, nav, static, bare, reachable, previous, avoid=()) -> None:
+        """Choose where the robot stands to grasp ``p``: a pose the navigation grid reaches now,
+        else one it reaches once floor items are cleared (blocked), else one a pose adjustment
+        reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier."""
+        # GRASP_MIN keeps poses off the item's own footprint, so the grid with every floor item
+        # serves. The arm reaches straight: a floor item in between makes a pose usable only
+        # once that item is taken away, like an item lying across a path.
+        # A pose where another floor item stands is usable once that item is taken away too: the
+        # only poses of an item hemmed in by others (a table side lined with floor items).
+        others_floor = [b for b in floor if b.name != p.name and b.clearance(*p.xy) <= GRASP_MAX + 0.5]
+        crossing: dict[Point, tuple[str, ...]] = {}
+        for c in self._ring(p.xy):
+            under = () if bare.free(*c) else tuple(
+                b.name for b in others_floor if b.clearance(*c) < self.bare_radius
+            )  # fmt: skip
+            crossing[c] = tuple(b.name for b in others_floor if _crosses(c, p.xy, b)) + under
+        others = [q for n, q in facts.points.items() if facts.kind[n] in ("grasp", "adjust")]
+        # poses taken by other waypoints, and those from which the robot failed to find p before
+        crossing = {
+            c: x
+            for c, x in crossing.items()
+            if all(math.dist(c, q) >= 0.1 for q in others) and all(math.dist(c, q) >= 0.15 for q in avoid)
+        }
+        candidates = [c for c, x in crossing.items() if not x]
+        rank = lambda c: (len(crossing[c]), abs(math.dist(c, p.xy) - GRASP_BEST), c)  # noqa: E731
+        name = grasp_waypoint(p.name)
+        now = [c for c in candidates if c in reachable]
+        if previous in now:
+            now = [previous]
+        if now:
+            facts.points[name], facts.kind[name] = min(now, key=rank), "grasp"
+            facts.grasp[p.name] = name
+            return
+        # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
+        # its paths would be blocked by the item to be taken from there (no plan could start)
+        own = self.grid([p.box()]) if p.on_floor else static
+        room = set(own.free_cells(reachable_from=self._origin if own.free(*self._origin) else self.entrance))
+        later = [c for c in crossing if c in room]
+        if previous in later:
+            later = [previous]
+        if later:
+            c = min(later, key=rank)
+            facts.points[name], facts.kind[name] = c, "grasp"
+            facts.grasp[p.name] = name
+            if crossing[c]:
+                facts.reach_blockers[name] = crossing[c]
+            return
+        tight = []
+        for c in candidates:
+            if not bare.free(*c):
+                continue
+            # a pose adjustment is a short straight move: never through furniture or a wall
+            base = [q for q in reachable if math.dist(q, c) <= ADJUST_MAX and _straight(bare, q, c)]
+            if base:
+                tight.append((rank(c), c, min(base, key=lambda q: (math.dist(q, c), q))))
+        if not tight:
+            facts.unreachable.append(p.name)
+            return
+        _, c, base = min(tight)
+        facts.points[name], facts.kind[name] = c, "grasp"
+        facts.points[name + "-base"], facts.kind[name + "-base"] = base, "adjust"
+        facts.grasp[p.name] = name
+        d = round(math.dist(base, c), 2)
+        facts.adjust[(name + "-base", name)] = facts.adjust[(name, name + "-base")] = d
+
+    def _ring(self, at: Point) -> list[Point]:
+        """The bare map's free cells within the arm's reach of ``at`` (GRASP_MIN to GRASP_MAX), in
+        cell order: one array test, not a loop over the room's ten thousand cells per item."""
+        if self._bare_cells is None:
+            cells = self.grid((), bare=True).free_cells()
+            self._bare_cells = (cells, np.array(cells, dtype=float).reshape(-1, 2))
+        cells, xy = self._bare_cells
+        d = np.hypot(xy[:, 0] - at[0], xy[:, 1] - at[1])
+        # the same float test as math.dist, so a cell on the ring's edge stays in or out as before
+        near = np.nonzero((d >= GRASP_MIN - 1e-9) & (d <= GRASP_MAX + 1e-9))[0]
+        return [c for c in (cells[k] for k in near) if GRASP_MIN <= math.dist(c, at) <= GRASP_MAX]
+
+    def _add_paths(self, facts: MapFacts, items: Sequence[Placed], nav, static) -> None:
+        names = sorted(facts.points)
+        pts = [facts.points[n] for n in names]
+        now = nav.path_lengths(pts)
+        later = static.path_lengths(pts)
+        blocked_pairs = []
+        for i, a in enumerate(names):
+            for j, b in enumerate(names):
+                if i == j:
+                    continue
+                if now[i][j] is not None:
+                    facts.path[(a, b)] = round(now[i][j], 2)
+                elif later[i][j] is not None:
+                    facts.blocked[(a, b)] = round(later[i][j], 2)
+                    blocked_pairs.append((i, j))
+        # Tight deposit poses get an adjustment from their nearest navigable waypoint-free cell.
+        # So does a robot left in a tight pose that is no waypoint any more (the item it was
+        # to grasp from there turned out not to exist): it backs out the way it came.
+        for n in names:
+            if facts.kind[n] == "deposit" and later[names.index(n)][names.index(ENTRANCE)] is None:
+                self._adjust_into(facts, n, nav)
+            elif facts.kind[n] == "robot" and not nav.free(*facts.points[n]):
+                self._adjust_into(facts, n, nav)
+        if blocked_pairs:
+            self._blockers(facts, items, names, pts, blocked_pairs)
+        # A grasp pose whose reach crosses a floor item is entered only once that item is gone.
+        for g, who in facts.reach_blockers.items():
+            for a in names:
+                if (a, g) in facts.path:
+                    facts.blocked[(a, g)] = facts.path.pop((a, g))
+                if (a, g) in facts.blocked:
+                    facts.blocks.update((item, a, g) for item in who)
+
+    def _adjust_into(self, facts: MapFacts, name: str, nav: OccupancyGrid) -> None:
+        target = facts.points[name]
+        cells = [c for c in nav.free_cells(reachable_from=self._origin) if math.dist(c, target) <= ADJUST_MAX]
+        if not cells:
+            return
+        base = min(cells, key=lambda c: (math.dist(c, target), c))
+        bname = name + "-base"
+        facts.points[bname], facts.kind[bname] = base, "adjust"
+        d = round(math.dist(base, target), 2)
+        facts.adjust[(bname, name)] = facts.adjust[(name, bname)] = d
+        for other, q in facts.points.items():
+            if other == bname or facts.kind[other] == "adjust":
+                continue
+            length = nav.path_length(q, base)
+            if length is not None:
+                facts.path[(other, bname)] = facts.path[(bname, other)] = round(length, 2)
+
+    def _blockers(self, facts, items, names, pts, pairs) -> None:
+        """Which floor item, taken away alone, frees each blocked pair; failing any single one,
+        every floor item near the pair's path on the static map (all of them must go)."""
+        floor = [p for p in items if p.on_floor]
+        freed: dict[tuple[int, int], list[str]] = {pair: [] for pair in pairs}
+        nav = self.grid([p.box() for p in floor])
+        for p in floor:
+            joined = nav.connected_without(p.box(), [(pts[i], pts[j]) for i, j in pairs])
+            for pair, ok in zip(pairs, joined, strict=True):
+                if ok:
+                    freed[pair].append(p.name)
+        static = self.grid(())
+        xy = np.array([p.xy for p in floor], dtype=float).reshape(-1, 2)
+        for (i, j), who in freed.items():
+            if not who:
+                line = np.array(static.path(pts[i], pts[j]) or [], dtype=float).reshape(-1, 2)
+                # each floor item near the path (one array of distances, not a loop of loops:
+                # at 96 objects that loop was half of every replan)
+                d = np.hypot(xy[:, None, 0] - line[None, :, 0], xy[:, None, 1] - line[None, :, 1])
+                near = (d < self.nav_radius + 0.1).any(axis=1) if len(line) else np.zeros(len(floor), bool)
+                who = [p.name for p, hit in zip(floor, near, strict=True) if hit]
+            for item in who:
+                facts.blocks.add((item, names[i], names[j]))
+
+
+def _straight(grid: OccupancyGrid, a: Point, b: Point, step: float = 0.05) -> bool:
+    """Whether the straight segment a-b runs over free cells only (sampled every ``step``)."""
+    n = max(1, math.ceil(math.dist(a, b) / step))
+    return all(grid.free(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) for k in range(n + 1))
+
+
+def _crosses(a: Point, b: Point, box: Box) -> bool:
+    """Whether segment a-b passes over the box's footprint (sampled every 2 cm)."""
+    hx, hy = box.sx / 2, box.sy / 2
+    if (
+        max(a[0], b[0]) < box.cx - hx
+        or min(a[0], b[0]) > box.cx + hx
+        or max(a[1], b[1]) < box.cy - hy
+        or min(a[1], b[1]) > box.cy + hy
+    ):
+        return False  # apart: no sample can fall on it (most boxes near an item, most segments)
+    n = max(2, int(math.dist(a, b) / 0.02))
+    return any(
+        box.clearance(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) == 0.0 for k in range(n + 1)
+    )
+
+
+def grasp_waypoint(item: str) -> str:
+    return f"wp-{item}"
+
+
+def deposit_waypoint(deposit: str) -> str:
+    return f"wp-{deposit}"
+
+
+def _box_key(b: Box) -> tuple:
+    return (b.cx, b.cy, b.sx, b.sy, b.name)
+
+
+def free_spots(
+    scenario: Scenario, around: Point, occupied: Sequence[Point], radii: tuple[float, float] = (0.45, 0.45)
+) -> list[Point]:
+    """Floor spots on rings ``radii`` around ``around``: inside the room, clear of furniture, and
+    20 cm from every point of ``occupied``. Where an item can be put down (drop_object), or where
+    one that slips out of the hand can land."""
+    x0, x1, y0, y1 = scenario.bounds
+    out = []
+    for r in sorted(set(radii)):
+        for k in range(16):
+            a = 2 * math.pi * k / 16
+            p = (round(around[0] + r * math.cos(a), 3), round(around[1] + r * math.sin(a), 3))
+            if not (x0 + 0.1 < p[0] < x1 - 0.1 and y0 + 0.1 < p[1] < y1 - 0.1):
+                continue
+            if any(f.box().clearance(*p) < 0.05 for f in scenario.furniture):
+                continue
+            if any(math.dist(p, q) < 0.2 for q in occupied):
+                continue
+            out.append(p)
+    return out

@@ -1,0 +1,249 @@
+"""Belief state to PDDL problem, as ROSPlan's problem interface does: one problem per (re)plan.
+
+The problem is built as the model (``tidyplan.pddl.model.Problem``) in the words of
+``VOCABULARY``, keeping what the domain declares, and handed to the planner as it is; its text
+(``Snapshot.text``) is saved beside the trace, so what was planned on is what a person can open,
+check with ``tidyplan check`` and plan again with ``tidyplan plan``. Nothing is parsed back.
+
+Facts, from the belief and the map (``tidyplan.belief.geometry``):
+- where the robot is, what it holds, where each untidied seen item is (``item-at`` its grasp
+  waypoint) and that it is ``located``; tidied items are left out (nothing more to do with them);
+- unseen items as ``:virtual-objects`` with their category; ``unexplored`` viewpoints with
+  ``p-item-near`` for ``assume-item-near``;
+- paths and their lengths, blocked paths and what blocks them, pose adjustments (never
+  ``(shortest-paths)``: with it cases I and II failed, docs/planner.md);
+- for every item that may need moving out of the way, the removal waypoint of Algorithm 1,
+  computed from where that item is picked up (``tidyplan.planning.removal``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from tidyplan.belief.geometry import MapFacts, deposit_waypoint
+from tidyplan.belief.state import Belief
+from tidyplan.pddl import model as m
+from tidyplan.pddl.writer import problem_text
+from tidyplan.planning.removal import Waypoint, removal_waypoint
+
+NOT_FOR_REMOVAL = ("grasp", "deposit", "adjust", "robot")
+COST = "total-cost"
+GOAL = "tidied"  # the worlds' goal: (tidied ?o) for every item to tidy
+
+# The words the writer fills from the belief and the map, with the types of their arguments:
+# a domain that declares one must declare it so (``tidyplan.exec.binding_check``). Any other
+# predicate a domain declares comes from the scenario's facts or is false.
+VOCABULARY_TYPES = ("waypoint", "item", "deposit", "category")
+VOCABULARY: dict[str, tuple[str, ...]] = {
+    "robot-at": ("waypoint",),
+    "hand-empty": (),
+    "holding": ("item",),
+    "item-at": ("item", "waypoint"),
+    "located": ("item",),
+    "of-category": ("item", "category"),
+    "deposit-at": ("deposit", "waypoint"),
+    "accepts": ("deposit", "category"),
+    "closed": ("deposit",),  # a drawer not open (the WRS drawer)
+    "removal-waypoint": ("item", "waypoint"),
+    "unexplored": ("waypoint",),
+    "path": ("waypoint", "waypoint"),
+    "blocked": ("waypoint", "waypoint"),
+    "blocks": ("item", "waypoint", "waypoint"),
+    "pose-adjustment": ("waypoint", "waypoint"),
+    GOAL: ("item",),
+}
+VOCABULARY_FUNCTIONS: dict[str, tuple[str, ...]] = {
+    "distance": ("waypoint", "waypoint"),
+    "p-item-near": ("waypoint",),
+    COST: (),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Snapshot:
+    """One problem as the model holds it, and what the loop needs to read the plan back."""
+
+    problem: m.Problem
+    header: tuple[str, ...]  # comments for a person reading the saved file
+    facts: MapFacts
+    goal: tuple[str, ...]
+    virtual: tuple[tuple[str, str], ...]
+    robot_waypoint: str
+    removal: dict[str, str]  # item -> removal waypoint (Algorithm 1)
+    atoms: frozenset[tuple[str, ...]]  # the init's atoms: the planning state the loop monitors
+
+    @property
+    def text(self) -> str:
+        """The problem in the dialect, as saved beside the trace (``tidyplan plan`` reads it)."""
+        return "\n".join(self.header) + "\n" + problem_text(self.problem)
+
+
+def robot_waypoint(facts: MapFacts, belief: Belief) -> str:
+    """The waypoint the robot stands on: its own name for it when that is on the map."""
+    if belief.robot_wp in facts.points and _dist(facts.points[belief.robot_wp], belief.robot) < 0.03:
+        return belief.robot_wp
+    return min(facts.points, key=lambda n: (_dist(facts.points[n], belief.robot), n))
+
+
+def removal_choices(facts: MapFacts, belief: Belief, robot_wp: str) -> dict[str, str]:
+    """Algorithm 1 for each item that could be moved: p_r is where the robot stands when it has
+    the item in hand (its grasp waypoint; the robot's waypoint for the item held now)."""
+    waypoints = [
+        Waypoint(
+            n,
+            *facts.points[n],
+            for_grasping=facts.kind[n] == "grasp",
+            for_delivery=facts.kind[n] == "deposit",
+            reached=n in belief.reached and facts.kind[n] not in NOT_FOR_REMOVAL,
+        )
+        for n in sorted(facts.points)
+    ]
+    origins = dict(facts.grasp)
+    if belief.holding is not None:
+        origins[belief.holding] = robot_wp
+    out = {}
+    for item, origin in sorted(origins.items()):
+        w = removal_waypoint(waypoints, facts.points[origin], lambda a, b, o=origin: _length(facts, o, b))
+        if w is not None:
+            out[item] = w.name
+    held = belief.holding
+    if held is not None and (out.get(held) is None or (robot_wp, out[held]) not in facts.path):
+        # No removal waypoint open from here: the item in the way of it needs a free hand first.
+        # Algorithm 1's "a free space nearby" is then beside the robot (case III had the robot
+        # hold a tool it could neither deliver nor put aside, both ways shut by a box).
+        out[held] = robot_wp
+    return out
+
+
+def focus(facts: MapFacts, belief: Belief, goal: Sequence[str]) -> tuple[MapFacts, set[str]]:
+    """The part of the map a problem for ``goal`` needs, and the seen items it keeps: the goal's
+    items, the one in the hand, and, until nothing changes, every item that blocks a way between
+    the waypoints kept (P3 may have to move it). Other items' waypoints and ways are left out:
+    in a room of 48 items they made most of the problem, and a plan for a dozen never used them."""
+    robot_wp = robot_waypoint(facts, belief)
+    fixed = {n for n, k in facts.kind.items() if k in ("entrance", "viewpoint", "deposit", "robot")}
+    fixed |= {n + "-base" for n in fixed if n + "-base" in facts.points} | {robot_wp}
+    keep = {g for g in goal if g in facts.grasp} | ({belief.holding} if belief.holding else set())
+    while True:
+        wps = fixed | {facts.grasp[i] for i in keep if i in facts.grasp}
+        wps |= {w + "-base" for w in wps if w + "-base" in facts.points}
+        more = keep | {i for i, a, b in facts.blocks if a in wps and b in wps}
+        if more == keep:
+            break
+        keep = more
+    part = MapFacts(
+        points={n: q for n, q in facts.points.items() if n in wps},
+        kind={n: k for n, k in facts.kind.items() if n in wps},
+        grasp={i: w for i, w in facts.grasp.items() if i in keep},
+        unreachable=[i for i in facts.unreachable if i in keep],
+        path={ab: d for ab, d in facts.path.items() if ab[0] in wps and ab[1] in wps},
+        blocked={ab: d for ab, d in facts.blocked.items() if ab[0] in wps and ab[1] in wps},
+        blocks={t for t in facts.blocks if t[1] in wps and t[2] in wps},
+        adjust={ab: d for ab, d in facts.adjust.items() if ab[0] in wps and ab[1] in wps},
+        reach_blockers={w: who for w, who in facts.reach_blockers.items() if w in wps},
+    )
+    return part, keep
+
+
+def write(
+    belief: Belief,
+    facts: MapFacts,
+    goal: Sequence[str],
+    virtual: Sequence[tuple[str, str]],
+    name: str,
+    focused: bool = False,
+    domain: m.Domain | None = None,
+) -> Snapshot:
+    """The problem for the items in ``goal`` (seen names and virtual names), built as the model;
+    ``focused``: with only the part of the map and the items that goal needs (``focus``).
+    With a ``domain``, only what it declares is written (its name, its predicates and functions);
+    a predicate it declares beyond the vocabulary comes from ``belief.memory`` (the scenario's
+    facts, kept by the domain's own effects) or is false."""
+    keep = None
+    if focused:
+        facts, keep = focus(facts, belief, goal)
+    robot_wp = robot_waypoint(facts, belief)
+    removal = removal_choices(facts, belief, robot_wp)
+    seen = [k for k in belief.untidied() if keep is None or k.name in keep]
+    p_near = belief.p_item_near(facts) if virtual else {}
+    deposits = belief.scenario.deposits
+    categories = sorted({k.category for k in seen} | {c for _, c in virtual} | {d.category for d in deposits})
+    atoms: list[tuple[str, ...]] = [("robot-at", robot_wp)]
+    values: list[tuple[str, tuple[str, ...], float]] = []
+    atoms.append(("holding", belief.holding) if belief.holding else ("hand-empty",))
+    for k in seen:
+        if k.name not in belief.undeliverable:
+            atoms.append(("of-category", k.name, k.category))
+        if k.state == "placed" and k.name in facts.grasp:
+            atoms += [("item-at", k.name, facts.grasp[k.name]), ("located", k.name)]
+        elif k.state == "held":
+            atoms.append(("located", k.name))
+    atoms += [("of-category", v, cat) for v, cat in virtual]
+    for d in deposits:
+        atoms += [("deposit-at", d.name, deposit_waypoint(d.name)), ("accepts", d.name, d.category)]
+    atoms += [("closed", d) for d in sorted(belief.closed)]
+    atoms += [("removal-waypoint", item, w) for item, w in removal.items()]
+    for w, p in p_near.items():
+        atoms.append(("unexplored", w))
+        values.append(("p-item-near", (w,), p))
+    for (u, v), d in sorted(facts.path.items()):
+        atoms.append(("path", u, v))
+        values.append(("distance", (u, v), round(d, 2)))
+    for (u, v), d in sorted(facts.blocked.items()):
+        atoms += [("path", u, v), ("blocked", u, v)]
+        values.append(("distance", (u, v), round(d, 2)))
+    atoms += [("blocks", item, u, v) for item, u, v in sorted(facts.blocks)]
+    for (u, v), d in sorted(facts.adjust.items()):
+        atoms.append(("pose-adjustment", u, v))
+        values.append(("distance", (u, v), round(d, 2)))
+    objects = [(n, "waypoint") for n in sorted(facts.points)] + [(k.name, "item") for k in seen]
+    objects += [(d.name, "deposit") for d in deposits] + [(c, "category") for c in categories]
+    named = {n for n, _ in objects} | {v for v, _ in virtual}
+    if domain is not None:
+        named |= {c.name for c in domain.constants}
+    # the domain's own atoms (the scenario's facts, kept by the actions' effects) about objects
+    # this problem has: a focused problem leaves out waypoints a fact may name
+    atoms += sorted(a for a in belief.memory if a[0] not in VOCABULARY and set(a[1:]) <= named)
+    if domain is not None:
+        atoms = [a for a in atoms if domain.predicate(a[0]) is not None]
+        values = [v for v in values if domain.function(v[0]) is not None]
+    has_costs = domain is None or domain.has_costs
+    problem = m.Problem(
+        name=name,
+        domain_name=domain.name if domain is not None else "tidy",
+        objects=tuple(m.Typed(n, (t,)) for n, t in objects),
+        virtual_objects=tuple(m.Typed(v, ("item",)) for v, _ in virtual),
+        init=tuple(m.Atom(a[0], a[1:]) for a in dict.fromkeys(atoms)),
+        values=((m.FunctionTerm(COST, ()), 0.0),) * has_costs
+        + tuple((m.FunctionTerm(f, args), x) for f, args, x in values),
+        goal=m.And(tuple(m.Atom(GOAL, (g,)) for g in goal)),
+        metric=("minimize", m.FunctionTerm(COST, ())) if has_costs else None,
+    )
+    header = (
+        f";; {name}: written from the belief state by tidyplan (scenario {belief.scenario.name}).",
+        f";; Robot at {robot_wp} {_xy(belief.robot)}; holding {belief.holding or 'nothing'}.",
+        ";; Waypoints (name kind x y):",
+        *(f";;   {n} {facts.kind[n]} {_xy(facts.points[n])}" for n in sorted(facts.points)),
+        *([f";; Out of reach (no grasp pose): {' '.join(facts.unreachable)}"] if facts.unreachable else []),
+        ";; Items as believed (name category state x y):",  # read by tidyplan trace --html
+        *(f";;   {k.name} {k.category} {k.state} {_xy((k.x, k.y))}" for k in seen),
+    )
+    state = frozenset(tuple([a.predicate, *a.args]) for a in problem.init)
+    return Snapshot(problem, header, facts, tuple(goal), tuple(virtual), robot_wp, removal, state)
+
+
+def _dist(a, b) -> float:
+    return ((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2) ** 0.5
+
+
+def _length(facts: MapFacts, a: str, b_point) -> float | None:
+    """Path length from waypoint a to the waypoint at b_point (Algorithm 1's "nearest")."""
+    for n, q in facts.points.items():
+        if q == b_point:
+            return 0.0 if n == a else facts.distance(a, n)
+    return None
+
+
+def _xy(p) -> str:
+    return f"{p[0]:.2f} {p[1]:.2f}"

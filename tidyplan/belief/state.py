@@ -1,0 +1,384 @@
+"""The belief state: what the robot knows of the room, and what it does not know yet.
+
+Goebelbecker et al. plan on a state where some facts are known and others are not yet known,
+and bridge the gap with assumptions over virtual objects. For the tidy-up room that is:
+
+- known items: seen, with a category and a believed place (floor, furniture top, the gripper,
+  or a deposit once delivered);
+- unseen items: what the scenario's ``[prior]`` tells the robot (12 = 4 x 3 in the O-FSM
+  cases), so every missing one is a virtual object of a known category; told nothing, the robot
+  assumes one more item of each deposit's category while some of the room is still unseen
+  (docs/scenario.md). The true items are never read: the belief is built from the scenario
+  without them (``Scenario.without_items``);
+- where an unseen item may be: the placement points (floor and table tops) nobody has seen yet.
+  A viewpoint's chance of revealing an unseen item is the share of those points it sees, under
+  a uniform prior (``p_item_near``). Viewpoints are added from the map where the scenario's do
+  not cover the room (``tidyplan.belief.viewpoints``), and more, closer ones in a new round of
+  exploration when expected items were not found;
+- what the robot did: waypoints reached (Algorithm 1 needs them), looks taken, moves that
+  found their way blocked.
+
+The belief knows the static map (the paper's prerequisite: a pre-built occupancy map and the
+deposits' poses) and computes line of sight against furniture only: it cannot know what
+unseen items hide.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from sim.scenario.model import Scenario
+from sim.visibility import Box3, visible
+from tidyplan.belief import viewpoints
+from tidyplan.belief.exploration import LOST_RADIUS, Exploration
+from tidyplan.belief.geometry import ENTRANCE, MapFacts, Placed, RoomMap
+
+Point = tuple[float, float]
+
+MISS_RANGE = 2.5  # m: a miss counts only this close; far detections are the unreliable ones
+SAME_ITEM = 0.20  # m: a detection this close to a believed item of its category is that item
+FORGET_AFTER = 3  # looks in a row that should have seen an item and did not: it is not there
+# (at a false-negative rate of 0.2, three misses in a row of a real item happen 1 time in 125)
+# m: a confirmed item seen this far from where it was believed has been moved there (and the grasp
+# pose kept for its old place is chosen again)
+MOVED = 0.03
+POINT_SPACING = 0.10  # m between placement points
+
+
+@dataclass(slots=True)
+class Known:
+    """A seen item. ``state`` is placed, held or tidied; (x, y, on) is where it was last seen or
+    put down; ``misses`` counts looks in a row that should have seen it."""
+
+    name: str
+    category: str
+    x: float
+    y: float
+    on: str = "floor"
+    sx: float = 0.08
+    sy: float = 0.08
+    sz: float = 0.10
+    state: str = "placed"
+    misses: int = 0
+    deposit: str | None = None
+    spread: float = 0.0  # m it may lie from (x, y): 0 where seen; more where it fell unseen
+
+    def placed(self) -> Placed:
+        return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0)
+
+
+@dataclass(frozen=True, slots=True)
+class Detection:
+    """One object the camera reports: its category, where it appears to be, and its footprint
+    (an RGB-D detection gives the object's bounding box)."""
+
+    category: str
+    x: float
+    y: float
+    on: str = "floor"
+    sx: float = 0.08
+    sy: float = 0.08
+    sz: float = 0.10
+
+
+@dataclass(slots=True)
+class Update:
+    """What one observation changed, for the monitor and the trace."""
+
+    new: list[str] = field(default_factory=list)
+    confirmed: list[str] = field(default_factory=list)
+    forgotten: list[str] = field(default_factory=list)
+    # believed items a detection of another kind lay on: the same object seen twice, not added
+    overlapping: list[str] = field(default_factory=list)
+
+
+class Belief(Exploration):
+    """Mutable by design: the loop owns one and updates it after every action; the facts handed
+    to the planner are computed from it, never stored in it."""
+
+    def __init__(self, scenario: Scenario, room: RoomMap) -> None:
+        self.scenario = scenario.without_items()  # the robot is never told the true items
+        self.room = room
+        self.prior = scenario.prior_counts()  # None: told nothing, explore the whole room
+        told = self.prior if self.prior is not None else {d.category for d in scenario.deposits}
+        self.categories = sorted(told)
+        self.rounds = 0  # rounds of exploration after the first
+        self.items: dict[str, Known] = {}
+        self.robot: Point = room.entrance
+        self.robot_wp = ENTRANCE  # the waypoint the robot last reached: its name for the planner
+        self.holding: str | None = None
+        self.reached: set[str] = {ENTRANCE}
+        self.looked_from: set[str] = set()
+        # Atoms of the domain's predicates no sensor reports (must-move-back, a user's own): the
+        # scenario's facts to start with, then kept by the effects of the actions executed
+        self.memory: set[tuple[str, ...]] = set(scenario.facts)
+        # drawers not open, as the robot was told and then saw (the pull unit's check)
+        self.closed: set[str] = {
+            d.name for d in scenario.deposits if d.drawer is not None and d.drawer.closed
+        }
+        # items the error layer gave up (monitor.loop): written without their category, so no
+        # plan delivers them again; a plan may still move one aside
+        self.undeliverable: set[str] = set()
+        self.sticky: dict[str, Point] = {}
+        self.blocked_moves: set[tuple[Point, Point]] = set()
+        # (item place, robot pose): a close look from that pose did not find the item there
+        self.failed_poses: list[tuple[Point, Point]] = []
+        self.scene_changed = False  # an item left the floor since exploration was last reset
+        self._serial: Counter[str] = Counter()
+        self._forgotten: dict[str, Known] = {}  # seen again near where it was: same name
+        self._occluders = [Box3.from_furniture(f) for f in scenario.furniture]
+        self.points, self._support = viewpoints.placement_points(scenario, POINT_SPACING)
+        self._targets = np.array(self.points, dtype=float).reshape(-1, 3)
+        self.seen = np.zeros(len(self.points), dtype=bool)
+        self._view_cache: dict[tuple, np.ndarray] = {}
+        self._facts: tuple[tuple, MapFacts] | None = None
+        self.generated: list[str] = self._add_viewpoints(scenario.sensing.range_max)
+
+    # ------------------------------------------------------------------ what is (not) known
+    def virtual(self) -> list[tuple[str, str]]:
+        """(name, category) of each item the room may still hold that nobody has seen: the
+        virtual objects of the next problem, named by category and number. With a prior, those it
+        names beyond the items seen; without one, one of each category while some of the room is
+        unseen (``explorable``)."""
+        if self.prior is None:
+            return [(f"unseen-{cat}-1", cat) for cat in self.categories] if self.explorable() else []
+        have = Counter(k.category for k in self.items.values())
+        out = []
+        for cat in self.categories:
+            out += [(f"unseen-{cat}-{n + 1}", cat) for n in range(max(0, self.prior[cat] - have[cat]))]
+        return out
+
+    def explorable(self) -> bool:
+        """Whether some viewpoint nobody has looked from would reveal unseen space."""
+        return bool(self.p_item_near(self.facts()))
+
+    def untidied(self) -> list[Known]:
+        return sorted((k for k in self.items.values() if k.state != "tidied"), key=lambda k: k.name)
+
+    def placed(self) -> list[Placed]:
+        return [k.placed() for k in self.untidied() if k.state == "placed"]
+
+    def facts(self) -> MapFacts:
+        """The map's facts for the belief as it is; the monitor asks several times a step, so the
+        last answer is kept while nothing it depends on changes (callers must not edit it)."""
+        if self._facts is not None and self._facts[0] == self._facts_key():
+            return self._facts[1]
+        avoid = {
+            k.name: [pose for place, pose in self.failed_poses if math.dist(place, (k.x, k.y)) <= SAME_ITEM]
+            for k in self.untidied()
+        }
+        facts = self.room.facts(self.placed(), (self.robot_wp, self.robot), self.sticky, avoid)
+        for item, wp in facts.grasp.items():
+            self.sticky[item] = facts.points[wp]
+        for table in (facts.path, facts.adjust):
+            for a, b in list(table):
+                if (facts.points[a], facts.points[b]) in self.blocked_moves:
+                    del table[(a, b)]  # a move found this way blocked: the grid is wrong here
+        self._facts = (self._facts_key(), facts)
+        return facts
+
+    def _facts_key(self) -> tuple:
+        return (
+            tuple(self.placed()),
+            self.robot_wp,
+            self.robot,
+            frozenset(self.blocked_moves),
+            tuple(sorted(self.sticky.items())),
+            tuple(self.failed_poses),
+        )
+
+    # ------------------------------------------------------------------ updates
+    def at(self, point: Point, waypoint: str) -> None:
+        self.robot, self.robot_wp = point, waypoint
+        self.reached.add(waypoint)
+
+    def observe(self, detections: list[Detection], waypoint: str | None) -> Update:
+        """A look from where the robot stands: add, confirm and forget items; mark space seen."""
+        update = Update()
+        view = self._view(self.robot)
+        self.seen |= view
+        if waypoint is not None:
+            self.looked_from.add(waypoint)
+        matched: set[str] = set()
+        for d in detections:
+            k = self._match(d, matched)
+            if k is not None:
+                k.misses = 0
+                # a fallen item found, or one knocked aside: now its place is known
+                if k.spread or math.dist((k.x, k.y), (d.x, d.y)) > MOVED:
+                    self.relocate(k.name, d.x, d.y)
+                k.sx, k.sy, k.sz = d.sx, d.sy, d.sz  # and its extent as it lies now (relocate)
+                matched.add(k.name)
+                update.confirmed.append(k.name)
+                continue
+            under = self._under(d)
+            if under is not None:
+                update.overlapping.append(under.name)
+                continue
+            name = self._add(d)
+            matched.add(name)
+            update.new.append(name)
+        for k in self.untidied():
+            if k.state != "placed" or k.name in matched or not self.should_see(k):
+                continue
+            k.misses += 1
+            if k.misses >= FORGET_AFTER:
+                self.forget(k.name)
+                update.forgotten.append(k.name)
+        return update
+
+    def _add(self, d: Detection) -> str:
+        name = self._revive(d)
+        if name is None:
+            self._serial[d.category] += 1
+            name = f"{d.category}-{self._serial[d.category]}"
+        self.items[name] = Known(name, d.category, d.x, d.y, d.on, d.sx, d.sy, d.sz)
+        return name
+
+    def bumped(self, d: Detection) -> str | None:
+        """What a close look around the robot found after its base ran into something (the head
+        camera cannot see so near): the believed item of that category nearest it, within
+        LOST_RADIUS, was knocked there; else it is an item never seen. Returns a new item's name."""
+        near = [
+            k
+            for k in self.items.values()
+            if k.state == "placed"
+            and k.category == d.category
+            and math.dist((k.x, k.y), (d.x, d.y)) <= LOST_RADIUS
+        ]
+        if near:
+            k = min(near, key=lambda k: (math.dist((k.x, k.y), (d.x, d.y)), k.name))
+            self.relocate(k.name, d.x, d.y)
+            k.on, k.sx, k.sy, k.sz = d.on, d.sx, d.sy, d.sz
+            return None
+        return self._add(d)
+
+    def forget(self, name: str) -> None:
+        """An item believed in a place that is not there (a false detection, or it moved)."""
+        k = self.items.pop(name, None)
+        if k is not None:
+            self._forgotten[name] = k
+        self.sticky.pop(name, None)
+
+    def lost(self, name: str) -> None:
+        """An item not where the belief had it, after a close look: forgotten, and the space
+        around that place unseen again, so exploration looks for it there (it may have rolled).
+        An item seen there again is grasped from another pose: the look from this one failed."""
+        k = self.items.get(name)
+        if k is not None:
+            if k.state == "placed":
+                self.failed_poses.append(((k.x, k.y), self.robot))
+            self.unsee((k.x, k.y), max(LOST_RADIUS, k.spread + 0.4))
+        self.forget(name)
+
+    def in_deposit(self, deposit: str) -> list[Known]:
+        """The items believed tidied into ``deposit``."""
+        return [k for k in self.items.values() if k.state == "tidied" and k.deposit == deposit]
+
+    def inspect_deposit(self, deposit: str, detections: list[Detection]) -> tuple[list[str], list[str]]:
+        """What close looks into a deposit showed (``detections``, distinct items): each believed
+        item of the deposit is confirmed by one shown of its category; those left over are not
+        there (knocked out, or never placed right) and are lost, to be found and tidied again.
+        Returns (confirmed, lost)."""
+        shown = Counter(d.category for d in detections)
+        confirmed, gone = [], []
+        for k in sorted(self.in_deposit(deposit), key=lambda k: k.name):
+            if shown[k.category] > 0:
+                shown[k.category] -= 1
+                confirmed.append(k.name)
+            else:
+                gone.append(k.name)
+        for name in gone:
+            self.lost(name)
+        return confirmed, gone
+
+    def taken(self, name: str) -> None:
+        k = self.items[name]
+        k.state, self.holding = "held", name
+        if k.on == "floor":
+            self.scene_changed = True
+            self.blocked_moves.clear()  # the floor changed: old blockages may be gone
+        self.sticky.pop(name, None)
+
+    def put(self, name: str, x: float, y: float, on: str = "floor") -> None:
+        k = self.items[name]
+        k.state, k.x, k.y, k.on, k.misses, k.spread = "placed", x, y, on, 0, 0.0
+        self.holding = None
+
+    def fell(self, name: str, near: Point, spread: float) -> None:
+        """The item in the hand slipped out near ``near``: on the floor within ``spread`` of it,
+        place not seen yet (the pick-up's check looks for it there)."""
+        self.put(name, *near)
+        self.items[name].spread = spread
+        self.scene_changed = True
+        self.unsee(near, spread + 0.4)  # a look for it covers where it may have rolled
+
+    def relocate(self, name: str, x: float, y: float, size: tuple[float, float, float] | None = None) -> None:
+        """A look found the item at (x, y), ``size`` (sx, sy, sz) as it lies now: a tall box that
+        toppled covers more floor (kept upright in the belief, the map let the base drive into it,
+        and a put-down ring fit for it upright shut the robot in)."""
+        k = self.items[name]
+        if math.dist((k.x, k.y), (x, y)) > MOVED:
+            self.sticky.pop(name, None)  # the grasp pose chosen for the old place may not fit
+        k.x, k.y, k.spread, k.misses = x, y, 0.0, 0
+        if size is not None:
+            k.sx, k.sy, k.sz = size
+
+    def delivered(self, name: str, deposit: str) -> None:
+        k = self.items[name]
+        k.state, k.deposit = "tidied", deposit
+        self.holding = None
+
+    # ------------------------------------------------------------------ geometry
+    def _match(self, d: Detection, taken: set[str]) -> Known | None:
+        best = None
+        for k in self.items.values():
+            if k.state != "placed" or k.category != d.category or k.name in taken:
+                continue
+            dist = math.dist((k.x, k.y), (d.x, d.y))
+            if dist <= max(SAME_ITEM, k.spread) and (best is None or dist < best[0]):
+                best = (dist, k)
+        return None if best is None else best[1]
+
+    def _under(self, d: Detection) -> Known | None:
+        """A believed item on the same support whose footprint holds the detection's centre: two
+        solid objects cannot lie there, so this is that item seen as another category (or twice)
+        and adds nothing. Were the belief the wrong one, its misses forget it in time."""
+        for k in self.items.values():
+            inside = abs(d.x - k.x) < k.sx / 2 and abs(d.y - k.y) < k.sy / 2
+            if inside and k.state == "placed" and k.on == d.on:
+                return k
+        return None
+
+    def _revive(self, d: Detection) -> str | None:
+        """The name of a forgotten item of this category that lay where d is, if any."""
+        for name, k in sorted(self._forgotten.items()):
+            if k.category == d.category and math.dist((k.x, k.y), (d.x, d.y)) <= SAME_ITEM:
+                del self._forgotten[name]
+                return name
+        return None
+
+    def should_see(self, k: Known, at: Point | None = None) -> bool:
+        """Would a look from ``at`` (default: where the robot is) see k if it were there?"""
+        at = self.robot if at is None else at
+        s = self.scenario.sensing
+        z = 0.05 if k.on == "floor" else self.scenario.furniture_named(k.on).height + 0.05
+        across = math.dist(at, (k.x, k.y))
+        if across > MISS_RANGE:
+            return False
+        # Under the sweep's lowest frame (the floor right beside the base) a miss is no evidence:
+        # an item the robot dropped beside itself was forgotten there, and driven into.
+        if math.degrees(math.atan2(s.camera_height - z, across)) > s.look_down_deg:
+            return False
+        # Furniture, and the items it knows of, may hide k: a miss behind them is no evidence.
+        occ = [b for b in self._occluders if b.name != k.on] + [
+            self._box3(o) for o in self.untidied() if o.state == "placed" and o is not k
+        ]
+        return visible(self._camera(at), (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max)
+
+    def _box3(self, k: Known) -> Box3:
+        return Box3.from_item(k, 0.0 if k.on == "floor" else self.scenario.furniture_named(k.on).height)

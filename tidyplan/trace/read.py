@@ -1,0 +1,392 @@
+"""Reading a trace back: its events, checked; the story of the run; the robot's track.
+
+A trace is a run's only record (docs/trace.md), so the reader is lenient where a run can leave
+a damaged file and strict where the file is not a trace at all:
+
+- a last line cut off mid-way (the run was killed while writing) is dropped with one warning;
+- event kinds this tidyplan does not know are skipped, and a newer schema version is read as
+  far as it is understood, with one warning;
+- a file that is not a trace (missing, binary, not JSON lines, no ``start`` event) raises
+  ``InputError`` with one line that says why.
+
+Every figure of ``summarise`` is computed from the events, so a trace without a ``summary``
+event (a killed run) is summarised too; when the run's own summary is there, its figures are
+the ones shown (the two agree: tests/test_trace_cli.py holds them to it), and the figures only
+the world knew (objects lost, wall time with set-up) come from it alone.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections import Counter
+from dataclasses import dataclass
+from pathlib import Path
+from statistics import median
+
+from tidyplan.errors import Diagnostic, InputError
+from tidyplan.exec.catalogue import DELIVERS
+from tidyplan.trace.writer import SCHEMA_VERSION
+
+KINDS = frozenset(
+    "start observe plan assume unit recovery action bind assumption plan_kept forget "
+    "explore_again look_again unblock give_up inspect_deposit sim_fault end summary".split()
+)
+# the five replan causes, numbered as in docs/trace.md and the Design (i)..(v)
+CAUSES = {
+    "precondition_failed": "i",
+    "plan_invalid": "ii",
+    "assumption_contradicted": "iii",
+    "recovery_exhausted": "iv",
+    "new_object": "v",
+}
+NO_SUMMARY = "without a summary (the run was stopped before it ended)"
+NUMBER = (int, float)
+WHAT = {NUMBER: "a number", int: "a whole number", str: "a string", list: "a list", bool: "true or false"}
+# What the readers below index without looking: a known event lacking it is not read as one.
+REQUIRED = {
+    "plan": {"replan": int, "plan": list, "cause": str, "status": str},
+    "action": {"action": str, "ok": bool},
+    "unit": {"unit": str, "step": str},
+    "recovery": {"unit": str},
+    "bind": {"virtual": str, "item": str},
+    "assumption": {"holds": bool},
+    "assume": {"action": str},
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Trace:
+    """The events of one trace that this reader knows, in order, and what reading it found.
+
+    Invariant: ``events[0]`` is the ``start`` event; every event is a dict with a str ``kind``
+    in ``KINDS``."""
+
+    path: Path
+    events: tuple[dict, ...]
+    version: int  # the highest ``v`` seen
+    skipped: int  # events of unknown kinds
+    truncated: bool  # the last line was cut off and dropped
+    warnings: tuple[Diagnostic, ...]
+
+    def of(self, kind: str) -> list[dict]:
+        return [e for e in self.events if e["kind"] == kind]
+
+    def last(self, kind: str) -> dict | None:
+        found = self.of(kind)
+        return found[-1] if found else None
+
+    @property
+    def start(self) -> dict:
+        return self.events[0]
+
+    def beside(self, relative: str) -> Path:
+        """A path the trace gives relative to its own folder (the PDDL files)."""
+        return self.path.parent / relative
+
+
+# ------------------------------------------------------------------ reading
+def read_trace(path: str | os.PathLike) -> Trace:
+    """Read and check a trace file; ``InputError`` (one line) if it is not one."""
+    where = os.fspath(path)
+    text = _text(where)
+    lines = text.split("\n")
+    numbered = [(n, line) for n, line in enumerate(lines, 1) if line.strip()]
+    if not numbered:
+        raise _not_a_trace(where, "the file is empty")
+    events, truncated = [], False
+    for i, (n, line) in enumerate(numbered):
+        try:
+            event = json.loads(line)
+        except json.JSONDecodeError as e:
+            if i == len(numbered) - 1 and events:  # a killed run: the last line is cut off
+                truncated = True
+                break
+            raise _not_a_trace(where, f"line {n} is not JSON ({e.msg})") from None
+        if not isinstance(event, dict) or not isinstance(event.get("kind"), str):
+            raise _not_a_trace(where, f'line {n} is not a trace event (no "kind")')
+        if not events and event["kind"] != "start":
+            raise _not_a_trace(where, f"it has no start event (the first is {event['kind']!r})")
+        wrong = _malformed(event)
+        if wrong:
+            raise _not_a_trace(where, f"line {n}: a {event['kind']} event {wrong}")
+        events.append(event)
+    versions = [e["v"] for e in events if isinstance(e.get("v"), int)]
+    version = max(versions, default=SCHEMA_VERSION)
+    known = tuple(e for e in events if e["kind"] in KINDS)
+    skipped = len(events) - len(known)
+    warnings = []
+    if truncated:
+        last = known[-1] if known else events[-1]
+        warnings.append(
+            Diagnostic(
+                where,
+                None,
+                None,
+                f"cut off mid-line (a killed run?): read up to its last whole event, "
+                f"seq {last.get('seq', '?')} ({last['kind']})",
+                warning=True,
+            )
+        )
+    if version > SCHEMA_VERSION:
+        warnings.append(
+            Diagnostic(
+                where,
+                None,
+                None,
+                f"written with trace schema v{version}, this tidyplan reads v{SCHEMA_VERSION}: "
+                f"read as v{SCHEMA_VERSION}, {skipped} event{'' if skipped == 1 else 's'} "
+                "of unknown kinds skipped",
+                warning=True,
+            )
+        )
+    return Trace(Path(where), known, version, skipped, truncated, tuple(warnings))
+
+
+def _malformed(event: dict) -> str | None:
+    """What a known event lacks that the readers rely on, or None (unknown kinds: None)."""
+    if event["kind"] not in KINDS:
+        return None
+    fields = {"sim_s": NUMBER, "wall_s": NUMBER} | REQUIRED.get(event["kind"], {})
+    for name, kind in fields.items():
+        value = event.get(name)
+        if not isinstance(value, kind) or (kind is not bool and isinstance(value, bool)):
+            return f'whose "{name}" is missing or not {WHAT[kind]}'
+    return None
+
+
+def _text(where: str) -> str:
+    if os.path.isdir(where):
+        raise _not_a_trace(where, "it is a directory")
+    try:
+        with open(where, "rb") as fh:
+            data = fh.read()
+    except FileNotFoundError:
+        raise InputError(Diagnostic(where, None, None, "no such file")) from None
+    except OSError as e:
+        raise InputError(Diagnostic(where, None, None, f"cannot read: {e.strerror}")) from None
+    if b"\0" in data:
+        raise _not_a_trace(where, "it is a binary file")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data[: e.start].count(b"\n") + 1
+        raise _not_a_trace(where, f"line {line} is not UTF-8 text") from None
+
+
+def _not_a_trace(where: str, why: str) -> InputError:
+    return InputError(Diagnostic(where, None, None, f"not a tidyplan trace: {why}"))
+
+
+# ------------------------------------------------------------------ plans
+def adopted(trace: Trace) -> list[dict]:
+    """The plan events whose plan the loop went on to execute: each solved one, except a last
+    one whose probability was too low to act on (the mission ended instead)."""
+    plans = trace.of("plan")
+    end = trace.last("end")
+    out = [p for p in plans if p.get("status") == "solved"]
+    if out and out[-1] is plans[-1] and end and end.get("reason", "").startswith("best plan's"):
+        out.pop()
+    return out
+
+
+def plan_rows(trace: Trace) -> list[dict]:
+    """One row per planner call: when, why, which goal, the outcome, and the actions executed
+    under it (0 unless adopted)."""
+    chosen = {id(p) for p in adopted(trace)}
+    rows, current, before = [], None, None
+    for e in trace.events:
+        if e["kind"] == "plan":
+            steps = e.get("plan") or []
+            row = {
+                "replan": e.get("replan"),
+                "sim_s": e.get("sim_s"),
+                "wall_s": e.get("wall_s"),
+                "cause": e.get("cause"),
+                "why": e.get("why", ""),
+                "goal_kind": e.get("goal_kind"),
+                "goal": len(e.get("goal") or []),
+                "status": e.get("status"),
+                "stratum": e.get("stratum"),
+                "transition": e.get("transition"),
+                "steps": len(steps),
+                "assumptions": e.get("assumptions", sum(_is_assumption(s) for s in steps)),
+                "cost": e.get("cost"),
+                "probability": e.get("probability"),
+                "planning_time_s": e.get("planning_time_s"),
+                "adopted": id(e) in chosen,
+                "executed": 0,
+                "again": before if before in ("explore_again", "look_again") else None,
+            }
+            rows.append(row)
+            if row["adopted"]:
+                current = row
+        elif e["kind"] == "action" and current is not None:
+            current["executed"] += 1
+        if e["kind"] != "observe":  # a look_again's look comes between it and its plan
+            before = e["kind"]
+    return rows
+
+
+def _is_assumption(step: str) -> bool:
+    return step.startswith("(assume")
+
+
+# ------------------------------------------------------------------ the story
+def summarise(trace: Trace) -> dict:
+    """The run in figures (the `tidyplan run --json` summary's fields and more), from the events;
+    the run's own summary event, when there is one, has the last word on the shared fields."""
+    s = _from_events(trace)
+    own = trace.last("summary")
+    if own is not None:
+        for key, value in own.items():
+            if key in s and key not in ("trace", "v", "seq", "kind", "wall_s", "sim_s"):
+                s[key] = value
+    s["complete"] = own is not None
+    s["ended"] = (
+        s["reason"]
+        if own is not None
+        else NO_SUMMARY + (f"; the loop's end: {s['reason']}" if trace.last("end") else "")
+    )
+    return s
+
+
+def _from_events(trace: Trace) -> dict:
+    start, end = trace.start, trace.last("end")
+    actions = trace.of("action")
+    groups = _replan_groups(trace)
+    times = [p["planning_time_s"] for p in trace.of("plan") if "planning_time_s" in p]
+    objects = sum(start.get("expected", {}).values()) or None
+    places = (end or {}).get("items") or {}
+    tidied = [a.get("delivered") or _arg(a, 1) for a in actions if delivers(a)]
+    delivered = sum(str(v[0]).startswith("tidied") for v in places.values()) if places else len(tidied)
+    checks = trace.of("assumption")
+    last = trace.events[-1]
+    from tidyplan.trace.score import TIME_LIMIT_S, wrs_score  # it reads `delivers` from here
+
+    limit = start.get("time_limit_s", TIME_LIMIT_S)
+    return {
+        "file": str(trace.path),
+        "schema": trace.version,
+        "scenario": start.get("scenario"),
+        "strategy": start.get("strategy"),
+        "seed": None,
+        "success": bool(end and end.get("success")) and (objects is None or delivered == objects),
+        "reason": end.get("reason", "") if end else "",
+        "objects": objects,
+        "delivered": delivered,
+        "lost_objects": None,  # only the world knows: in the summary event
+        "tidied": tidied,
+        "actions": len(actions),
+        "failed_actions": sum(not a.get("ok", True) for a in actions),
+        "paper_actions": None,  # needs the belief's hand at each move: in the summary event
+        "strata": _strata(actions),
+        "replans": len(groups),
+        "replan_causes": dict(sorted(Counter(groups.values()).items())),
+        "replans_avoided": len(trace.of("plan_kept")),
+        "recoveries": sum(a.get("recoveries", 0) for a in actions),
+        "recovery_steps": _recovery_steps(trace),
+        "assumptions": {
+            "made": sum(p.get("assumptions", 0) for p in adopted(trace)),
+            "passed": len(trace.of("assume")),
+            "confirmed": sum(bool(c.get("holds")) for c in checks),
+            "contradicted": sum(not c.get("holds") for c in checks),
+        },
+        "bound": [[b.get("virtual"), b.get("item")] for b in trace.of("bind")],
+        "new_objects": sum(len(o.get("new") or []) for o in trace.of("observe")),
+        "forgotten": sum(len(o.get("forgotten") or []) for o in trace.of("observe"))
+        + len(trace.of("forget")),
+        "distance_m": round(sum(a.get("metres", 0.0) for a in actions), 2),
+        "sim_time_s": round(last.get("sim_s", 0.0), 1),
+        "wall_time_s": round(last.get("wall_s", 0.0), 2),
+        "replan_time_s": {"median": round(median(times), 3), "max": round(max(times), 3)}
+        if times
+        else {"median": 0.0, "max": 0.0},
+        "wrs_score": wrs_score(trace.events, limit),
+        "time_limit_s": limit,
+        "plans": plan_rows(trace),
+        "warnings": [str(w) for w in trace.warnings],
+    }
+
+
+def _replan_groups(trace: Trace) -> dict[int, str]:
+    """Replan number -> its cause, for the replans that wrote a plan event (not the initial)."""
+    groups: dict[int, str] = {}
+    for p in trace.of("plan"):
+        n = p.get("replan")
+        if isinstance(n, int) and n > 0 and n not in groups:
+            groups[n] = p.get("cause", "?")
+    return groups
+
+
+def _strata(actions: list[dict]) -> dict[str, int]:
+    """Deliveries by the highest operator stratum executed since the previous delivery, failed
+    actions included (as the loop counts them, Yan et al.'s Table II)."""
+    strata, segment = {"P1": 0, "P2": 0, "P3": 0}, 1
+    for a in actions:
+        segment = max(segment, a.get("stratum") or 1)
+        if delivers(a):
+            strata[f"P{segment}"] = strata.get(f"P{segment}", 0) + 1
+            segment = 1
+    return strata
+
+
+def _recovery_steps(trace: Trace) -> dict:
+    steps = trace.of("recovery")
+    counted = [r for r in steps if r.get("layer") != "error_layer"]
+    return {
+        "by_class": dict(sorted(Counter(r.get("failure_class") for r in counted).items())),
+        "by_layer": dict(sorted(Counter(r.get("layer") for r in counted).items())),
+        "by_failure": dict(sorted(Counter(r.get("failure") for r in counted).items())),
+        "exhausted": len(steps) - len(counted),
+    }
+
+
+def delivers(action: dict) -> bool:
+    """An ``action`` event that put its item into a deposit: it ran the delivering unit
+    (``tidyplan.exec.catalogue.DELIVERS``); a trace written before actions named their units
+    is read by tidy.pddl's action name."""
+    if not action.get("ok"):
+        return False
+    if "units" in action:
+        return DELIVERS in action["units"]
+    return action.get("action", "").startswith("(deliver_it")
+
+
+def _arg(event: dict, i: int) -> str:
+    """Argument ``i`` of an action event's step (a trace that does not name the item delivered)."""
+    parts = event.get("action", "()").strip("()").split()
+    return parts[i] if len(parts) > i else "?"
+
+
+# ------------------------------------------------------------------ the track
+def track(trace: Trace) -> list[dict]:
+    """The robot's poses: where it started, then the path driven in each action (``path``, when
+    the trace has it) and where it stood after it (``robot``), each with the simulated time at
+    the action's end and the index (into ``adopted``) of the plan it was executing."""
+    plans = {id(p): i for i, p in enumerate(adopted(trace))}
+    start = trace.start.get("robot")
+    points = [] if start is None else [{"sim_s": 0.0, "xy": tuple(start), "plan": 0}]
+    current = 0
+    for e in trace.events:
+        if id(e) in plans:
+            current = plans[id(e)]
+        elif e["kind"] == "action":
+            poses = [tuple(p) for p in e.get("path") or []]
+            if e.get("robot") is not None and (not poses or poses[-1] != tuple(e["robot"])):
+                poses.append(tuple(e["robot"]))
+            points += [{"sim_s": e["sim_s"], "xy": xy, "plan": current} for xy in poses]
+    return points
+
+
+def replan_points(trace: Trace) -> list[dict]:
+    """Where the robot stood at each replan (its last position before the first plan event of
+    the replan) and why it replanned."""
+    out, at, seen = [], trace.start.get("robot"), set()
+    for e in trace.events:
+        if e["kind"] == "action" and e.get("robot") is not None:
+            at = e["robot"]
+        elif e["kind"] == "plan" and e["replan"] > 0 and e["replan"] not in seen:
+            seen.add(e["replan"])
+            out.append({"replan": e["replan"], "cause": e.get("cause"), "sim_s": e["sim_s"], "xy": at})
+    return out

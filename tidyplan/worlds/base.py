@@ -1,0 +1,169 @@
+"""What the symbolic and the pybullet world share: fault rates and the referee's view of the
+hidden truth (``WorldReferee``), on the contract every world implements (``tidyplan.worlds.contract``:
+``Skills``, what the behaviour units call; ``Referee``, the truth and the verdict).
+
+The behaviour units (``tidyplan.exec.units``) reach a world only through its skills; a world
+keeps the truth the robot must not see, draws every fault from one seeded generator in a fixed
+order, and answers the referee's questions (what is untidied, where an item really is). Worlds
+are made by name (``tidyplan.loop.mission.WORLDS``): a new one is one class and one entry there.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from sim.scenario.model import Scenario
+from tidyplan.belief.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
+from tidyplan.belief.state import Detection
+from tidyplan.worlds.contract import Odometer, Outcome, Referee, Skills, TrueItem, World
+
+__all__ = ["Odometer", "Outcome", "Rates", "Referee", "Skills", "TrueItem", "World", "WorldReferee"]
+
+Point = tuple[float, float]
+LOOK_INTO_S = 2.0  # s: the head tilts to the deposit and the detector runs (as a close look)
+# m/s: a drawer pulled or pushed by the hand on its handle, the base backing off or closing in
+# with the arm held (our figure: a little under the base's careful 0.11 m/s, a drawer steadily)
+PULL_SPEED = 0.1
+JAM_SHARE = (0.3, 0.7)  # of its travel: where a drawer that jams sticks
+
+
+@dataclass(frozen=True, slots=True)
+class Rates:
+    """Success rates of the manipulation actions and the camera's error rates.
+
+    Defaults: the domain's probabilities (take 0.95, deliver 0.98, drop 0.98, a pull of a drawer's
+    handle 0.95) and Goebelbecker's
+    false negative 0.2 and false positive 0.05 (the scenario's [sensing] may set its own); no
+    drops in transit and no transient obstacles unless asked for (``--faults``)."""
+
+    take: float = 0.95
+    deliver: float = 0.98
+    drop: float = 0.98
+    false_negative: float | None = None  # None: the scenario's
+    false_positive: float | None = None
+    grasp_drop: float = 0.0  # per carrying motion: the item falls near the robot
+    path_blocked: float = 0.0  # per motion: a transient obstacle stops the robot on its way
+    handle_slip: float = 0.05  # per pull: the handle slips out of the hand part-way (open_drawer 0.95)
+    drawer_jam: float = 0.0  # per pull: the drawer sticks part-way until pushed back closed
+
+
+class WorldReferee:
+    """What every world shares: the hidden truth (``items``), the seeded generator every fault
+    is drawn from, the referee's view of the truth, and the clock's bookkeeping. Subclasses set
+    ``robot`` and ``odometer``."""
+
+    robot: Point
+    odometer: Odometer
+
+    def __init__(self, scenario: Scenario, room: RoomMap, seed: int, rates: Rates) -> None:
+        self.scenario = scenario
+        self.room = room
+        self.rng = np.random.default_rng(seed)
+        s = scenario.sensing
+        self.fn = s.false_negative if rates.false_negative is None else rates.false_negative
+        self.fp = s.false_positive if rates.false_positive is None else rates.false_positive
+        self.rates = rates
+        self.items = {
+            i.name: TrueItem(i.name, i.category, i.x, i.y, i.on, i.sx, i.sy, i.sz) for i in scenario.items
+        }
+        self.holding: str | None = None
+
+    def untidied(self) -> list[str]:
+        """Items not in a deposit of their category."""
+        cat = {d.name: d.category for d in self.scenario.deposits}
+        return sorted(
+            o.name
+            for o in self.items.values()
+            if o.state != "tidied" or cat.get(o.deposit or "") != o.category
+        )
+
+    def where(self, name: str) -> tuple[str, Point]:
+        o = self.items[name]
+        return o.state if o.state != "tidied" else f"tidied:{o.deposit}", (o.x, o.y)
+
+    def escaped(self) -> list[str]:
+        """Items whose true place is outside the room's bounds: a fault of the simulation (an
+        object pushed through a wall), for the trace to report, never a lost object. A held item
+        is where the hand carries it (kinematically, into a wall too), not loose: never escaped.
+        The symbolic world puts items only inside the room: [] there."""
+        x0, x1, y0, y1 = self.scenario.bounds
+        return sorted(
+            n
+            for n, o in self.items.items()
+            if o.state != "held" and not (x0 <= o.x <= x1 and y0 <= o.y <= y1)
+        )
+
+    def look_into(self, deposit: str) -> list[Detection]:
+        """A close look into a deposit from where the robot stands at it (head tilted down): the
+        items resting in it, each missed at the false-negative rate."""
+        out = []
+        for o in sorted(self.items.values(), key=lambda o: o.name):
+            if o.state == "tidied" and o.deposit == deposit and self.rng.random() >= self.fn:
+                out.append(Detection(o.category, o.x, o.y, o.on, o.sx, o.sy, o.sz))
+        self.odometer.sim_time_s += LOOK_INTO_S
+        return out
+
+    def close(self) -> None:
+        """Release what the world holds (a physics server); nothing here."""
+
+    def grasp_distances(self, height: float) -> tuple[float, float, float]:
+        """(nearest, best, farthest) the base's centre may stand from an object of ``height``
+        to take it: the arm's comfortable reach."""
+        return GRASP_MIN, GRASP_BEST, GRASP_MAX
+
+    def _faults_on_path(self, n: int) -> tuple[int | None, int | None]:
+        """For a motion along ``n`` path points: the segment a transient obstacle stops it at
+        (``path_blocked``) and the one the held item slips out on (``grasp_drop``), or None.
+        Both numbers are drawn every time, so a seed fixes the run whatever happens."""
+        blocked_u, drop_u = self.rng.random(), self.rng.random()
+        block_at = int(self.rng.integers(1, n)) if n > 1 and blocked_u < self.rates.path_blocked else None
+        carrying = n > 1 and self.holding is not None
+        drop_at = int(self.rng.integers(1, n)) if carrying and drop_u < self.rates.grasp_drop else None
+        return block_at, drop_at
+
+    def _pull_faults(
+        self, jammed: float | None, opening: float, travel: float
+    ) -> tuple[float, str | None, float | None]:
+        """For a pull of a drawer ``opening`` m out (stuck at ``jammed``, or None): where it stops,
+        why (``handle_slip``, ``drawer_jammed``, None when it comes fully out) and where it is
+        stuck then. A jam (``drawer_jam``) sticks it at 30-70 % of its travel (where it is, if
+        farther out); a slip (``handle_slip``) lets go at a drawn point of the way it can go.
+        Four numbers are drawn every time, so a seed fixes the run whatever happens."""
+        slip_u, jam_u, slip_at, jam_at = (float(u) for u in self.rng.random(4))
+        if opening >= travel - 1e-3:
+            return opening, None, jammed  # out already: nothing to pull
+        if jammed is None and jam_u < self.rates.drawer_jam:
+            lo, hi = JAM_SHARE
+            jammed = max(opening, travel * (lo + (hi - lo) * jam_at))
+        end = travel if jammed is None else jammed
+        if slip_u < self.rates.handle_slip and end - opening > 1e-3:
+            return opening + slip_at * (end - opening), "handle_slip", jammed
+        return end, None if jammed is None else "drawer_jammed", jammed
+
+    def _phantom(self) -> list[Detection]:
+        """At the false-positive rate, a detection of nothing: a random category somewhere in
+        view on the floor (none when that place is outside the room)."""
+        if self.rng.random() >= self.fp:
+            return []
+        s = self.scenario.sensing
+        angle = self.rng.uniform(0, 2 * math.pi)
+        dist = self.rng.uniform(s.range_min, min(s.range_max, 2.0))
+        x, y = self.robot[0] + dist * math.cos(angle), self.robot[1] + dist * math.sin(angle)
+        cats = sorted({i.category for i in self.items.values()})
+        cat = cats[int(self.rng.integers(0, len(cats)))]
+        x0, x1, y0, y1 = self.scenario.bounds
+        return [Detection(cat, round(x, 3), round(y, 3), "floor")] if x0 < x < x1 and y0 < y < y1 else []
+
+    def _placed(self) -> list[TrueItem]:
+        return [o for o in self.items.values() if o.state == "placed"]
+
+    def _spend(self, seconds: float) -> Outcome:
+        self.odometer.sim_time_s += seconds
+        return Outcome(True, None, seconds)
+
+    def _fail(self, failure: str, seconds: float) -> Outcome:
+        self.odometer.sim_time_s += seconds
+        return Outcome(False, failure, seconds)

@@ -1,0 +1,127 @@
+"""The contract between the planner's side and a world: what the behaviour units and the loop may
+call (``Skills``), what only the world knows and is asked for the verdict (``Referee``), and
+the plain values they exchange. The symbolic and the pybullet worlds (``tidyplan.exec``)
+implement it; the monitor sees a world only through it. Worlds are made by name
+(``tidyplan.worlds.registry``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
+
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.state import Detection
+
+Point = tuple[float, float]
+
+
+@dataclass(slots=True)
+class TrueItem:
+    """An item as it really is (the referee's): where, on what, its size as it lies, its state."""
+
+    name: str
+    category: str
+    x: float
+    y: float
+    on: str
+    sx: float
+    sy: float
+    sz: float
+    state: str = "placed"  # placed, held, tidied
+    deposit: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Outcome:
+    """What the world says about one action: success, or a named failure, and its cost."""
+
+    ok: bool
+    failure: str | None = None
+    seconds: float = 0.0
+    metres: float = 0.0
+    at: Point | None = None  # where an item was put down (drop)
+
+
+@dataclass(slots=True)
+class Odometer:
+    """The simulated clock, the distance driven and the driven track (the base's poses)."""
+
+    sim_time_s: float = 0.0
+    distance_m: float = 0.0
+    track: list[Point] = field(default_factory=list)
+
+
+@runtime_checkable
+class Skills(Protocol):
+    """What the behaviour units and the loop call on a world: the robot's senses, its motions and
+    its manipulation, each answering with what the robot itself would know. ``odometer`` keeps
+    the simulated clock, the distance and the driven track."""
+
+    odometer: Odometer
+
+    def pose(self) -> Point: ...
+
+    def holds(self) -> bool: ...
+
+    def follow(self, path: list[Point], monitor=None, *, careful: bool = False) -> Outcome: ...
+
+    def grasp(self, target: Point) -> Outcome: ...
+
+    def place(self, deposit: str, approach: Point) -> Outcome: ...
+
+    def put_down(self, spot: Point) -> Outcome: ...
+
+    def look(self) -> list[Detection]: ...
+
+    def look_into(self, deposit: str) -> list[Detection]: ...
+
+    def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None: ...
+
+    def grasp_distances(self, height: float) -> tuple[float, float, float]: ...
+
+    def drawer_opening(self, deposit: str) -> float:
+        """How far the deposit's drawer is out (m, 0.0 closed), as the robot sees it."""
+        ...
+
+    def pull_handle(self, deposit: str) -> Outcome:
+        """From the deposit's approach, with the hand empty: grip the drawer's handle, pull it out."""
+        ...
+
+    def push_drawer(self, deposit: str) -> Outcome:
+        """From the deposit's approach, with the hand empty: push its drawer back closed (frees a jam)."""
+        ...
+
+
+@runtime_checkable
+class Referee(Protocol):
+    """What only the world knows, asked for the verdict and the trace's end state, never to
+    decide: which items are not tidied, where each really is, which left the room; ``items``
+    is the truth itself (name -> ``TrueItem``), for the count of lost objects."""
+
+    items: dict[str, TrueItem]
+
+    def untidied(self) -> list[str]: ...
+
+    def where(self, name: str) -> tuple[str, Point]: ...
+
+    def escaped(self) -> list[str]: ...
+
+    def close(self) -> None: ...
+
+
+@runtime_checkable
+class World(Skills, Referee, Protocol):
+    """A world the mission runs in: the skills for the robot, the referee for the verdict, and
+    ``room``, the map the robot is given (in pybullet, read back from the built scene)."""
+
+    room: RoomMap
+
+
+def referee_view(world: Referee) -> tuple[dict[str, list], list[str]]:
+    """Where the world holds each item at the end, for a reader to draw: name -> [state, x, y],
+    state ``placed``, ``held`` or ``tidied:<deposit>``; and the items tidied into a deposit of
+    another category (they earn no category points in the WRS score, tidyplan.trace.score)."""
+    found = {name: world.where(name) for name in sorted(world.items)}
+    places = {n: [state, round(x, 3), round(y, 3)] for n, (state, (x, y)) in found.items()}
+    return places, [n for n in world.untidied() if places[n][0].startswith("tidied")]

@@ -1,0 +1,163 @@
+"""The HSR's eyes in the pybullet world: the head sweep after every action and the close look a
+behaviour unit's check makes. A mixin of ``BulletWorld`` (``tidyplan.worlds.pybullet.world``), kept apart
+because perception is what makes the cases partially observable: the field of view, the range
+and occlusion decide here what the belief learns.
+"""
+
+from __future__ import annotations
+
+import math
+
+from sim.camera import sample_points
+from sim.motion import base_contacts, blocked
+from sim.robot import CAMERA_TILT
+from tidyplan.belief.state import Detection
+
+Point = tuple[float, float]
+
+AROUND, AROUND_LOOK = 0.3, 0.6  # m: a place this close is "around the robot"; looked at this far out
+RECOGNISE_S = 1.0  # s: object recognition on one camera frame (the symbolic world's locate)
+PANS = (1.75, 0.80, -0.15, -1.10, -2.05, -3.00, -3.84)  # head pan stops of a sweep: 58 deg frames overlap
+# two tilts per stop: 7 deg above to 60 deg below the horizon, the floor from 0.6 m out and table
+# tops across the room (one 45 deg frame cannot hold both)
+TILTS = (-0.65, -0.15)
+
+
+class HeadCamera:
+    """Perception for ``BulletWorld``: ``look`` and ``locate``. Uses the world's ``hsr``,
+    ``camera``, ``client``, ``bodies``, ``items``, its seeded ``rng`` and false-negative rate
+    ``fn``, ``_pan_forward`` (which way the next sweep goes), and its motions ``_place_base``,
+    ``_ignored`` and ``_spend``."""
+
+    def look(self) -> list[Detection]:
+        """A head sweep: the camera pans across the head's range, two tilts a stop; what any frame sees
+        is detected, each item missed at the false-negative rate; a phantom at the
+        false-positive rate (a random category somewhere in view on the floor)."""
+        pans = PANS if self._pan_forward else PANS[::-1]
+        self._pan_forward = not self._pan_forward
+        tilts = TILTS
+        seconds = self.hsr.set_head(pans[0], tilts[0])
+        targets = self._targets()
+        seen: set[str] = set()
+        for pan in pans:  # a frame at both tilts at each stop, in turn, so the head never swings back
+            for tilt in tilts:
+                seconds += self.hsr.set_head(pan, tilt)
+                eye, forward, up = self.hsr.camera()
+                seen |= self.camera.seen(self.client, eye, forward, up, targets, self.hsr.head_parts())
+            tilts = tilts[::-1]
+        self.hsr.set_head(pans[-1], CAMERA_TILT)
+        self._spend(seconds)
+        out = []
+        for it in sorted(self._placed(), key=lambda t: t.name):
+            miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
+            if it.name in seen and not miss:
+                out.append(Detection(it.category, round(it.x, 3), round(it.y, 3), it.on, it.sx, it.sy, it.sz))
+        return out + self._phantom()
+
+    def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None:
+        """Close-range look for the item of ``category`` nearest ``near`` within ``radius``: the
+        robot faces the place and tilts the head to it. Where the place is too close for the
+        camera (under 0.8 m from the lens: an object on a table right in front), the torso rises
+        to the top (the lens to 1.35 m); where that is not enough, the base steps back (if the
+        way is free) until the place is in range, looks, and returns. Missed at the
+        false-negative rate."""
+        candidates = {
+            o.name: (self.bodies[o.name], sample_points(self.client, self.bodies[o.name]))
+            for o in self._placed()
+            if math.dist((o.x, o.y), near) <= radius and (category is None or o.category == category)
+        }
+        if math.dist(near, self.robot) < AROUND:
+            return self._locate_around(near, candidates)
+        surface = self._surface_z(near)
+        seconds = self.hsr.turn_to(*near)  # face it: the head pans too little behind the robot
+        seen, spent = self._look_at(near, surface, candidates)
+        seconds += spent
+        lift = self.hsr.q("arm_lift_joint")
+        if not seen and self._too_close(near, surface):
+            seconds += self.hsr.set_joints({"arm_lift_joint": 0.69})
+            seen, spent = self._look_at(near, surface, candidates)
+            seconds += spent
+            if not seen and self._too_close(near, surface):
+                start = self.robot
+                pose = self._step_back(near, surface)
+                if pose is not None:
+                    self._place_base(pose)
+                    self.hsr.turn_to(*near)
+                    seconds += 2 * math.dist(start, pose) / (self.scenario.robot.speed / 2)  # there and back
+                    seen, spent = self._look_at(near, surface, candidates)
+                    seconds += spent
+                self._place_base(start)
+            seconds += self.hsr.set_joints({"arm_lift_joint": lift})
+        seconds += self.hsr.set_head(0.0, CAMERA_TILT)
+        return self._found(seen, near, seconds)
+
+    def _locate_around(self, near: Point, candidates) -> Detection | None:
+        """``near`` is where the robot stands (an object slipped out of the hand here): look at
+        the floor 0.6 m out to the front, then either side, then behind, until something is seen."""
+        seconds = 0.0
+        seen: set[str] = set()
+        _, _, yaw = self.hsr.base()
+        for turn in (0.0, math.pi / 2, -math.pi / 2, math.pi):
+            a = yaw + turn
+            spot = (near[0] + AROUND_LOOK * math.cos(a), near[1] + AROUND_LOOK * math.sin(a))
+            seconds += self.hsr.turn_to(*spot)
+            seen, spent = self._look_at(spot, self._surface_z(spot), candidates)
+            seconds += spent
+            if seen:
+                break
+        seconds += self.hsr.set_head(0.0, CAMERA_TILT)
+        return self._found(seen, near, seconds)
+
+    def _found(self, seen: set[str], near: Point, seconds: float) -> Detection | None:
+        """The close look's result after ``seconds``: the seen item nearest ``near``, unless the
+        detector misses it (at the false-negative rate)."""
+        self._spend(seconds)
+        if self.rng.random() < self.fn or not seen:
+            return None
+        o = min((self.items[n] for n in seen), key=lambda o: (math.dist((o.x, o.y), near), o.name))
+        return Detection(o.category, round(o.x, 3), round(o.y, 3), o.on, o.sx, o.sy, o.sz)
+
+    def _look_at(self, near: Point, surface: float, candidates) -> tuple[set[str], float]:
+        """Tilt the head to the place (the base faces it) and recognise; returns what was seen
+        and the seconds it took."""
+        eye, _, _ = self.hsr.camera()
+        tilt = -math.atan2(eye[2] - surface - 0.05, max(math.dist(eye[:2], near), 0.1))
+        seconds = self.hsr.set_head(0.0, max(tilt, -1.57)) + RECOGNISE_S
+        return self.camera.seen(self.client, *self.hsr.camera(), candidates, self.hsr.head_parts()), seconds
+
+    def _step_back(self, near: Point, surface: float) -> Point | None:
+        """The nearest free pose, straight back, back to either side or sideways, from which the
+        place is far enough for the camera; None if there is none within 0.6 m (a grasp pose with
+        its back to a wall needs a long step sideways). The robot is left where it was."""
+        start = self.robot
+        away = math.atan2(start[1] - near[1], start[0] - near[0])
+        found = None
+        for step in (0.1, 0.2, 0.3, 0.4, 0.5, 0.6):
+            for turn in (0.0, 0.785, -0.785, 1.571, -1.571):
+                a = away + turn
+                q = (start[0] + step * math.cos(a), start[1] + step * math.sin(a))
+                self._place_base(q)
+                if not blocked(base_contacts(self.hsr, self._ignored()), {}) and not self._too_close(
+                    near, surface
+                ):
+                    found = q
+                    break
+            if found:
+                break
+        self._place_base(start)
+        return found
+
+    def _too_close(self, near: Point, surface: float) -> bool:
+        eye = self.hsr.camera()[0]
+        return math.dist(eye, (near[0], near[1], surface + 0.05)) < self.camera.range_min + 0.02
+
+    def _targets(self) -> dict[str, tuple[int, list]]:
+        return {
+            o.name: (self.bodies[o.name], sample_points(self.client, self.bodies[o.name]))
+            for o in self._placed()
+        }
+
+    def _surface_z(self, at: Point) -> float:
+        """The top of the furniture at ``at`` on the static map (0: the floor)."""
+        tops = [f.height for f in self.scenario.furniture if f.box().clearance(*at) == 0.0]
+        return max(tops, default=0.0)

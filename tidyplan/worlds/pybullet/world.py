@@ -1,0 +1,221 @@
+"""The pybullet world: the Toyota HSR in the WRS room (``sim``), behind the same skills as the
+symbolic world, so the behaviour units and the loop run unchanged on it.
+
+What is real here: the room built from the scenario file, the robot model and its joint
+speeds, the head camera's field of view, range and occlusion by ray tests, the base's collision
+shape against the scene along every path, the arm reaching by pybullet's inverse kinematics,
+a grasp as a fixed constraint, objects that fall, tip and settle under physics when let go.
+What is drawn by rate from one seeded generator, as in the symbolic world: detection errors,
+grasps that slip (``grasp_fail``; the object drops back), placements where the hand does not
+open (``place_fail``), objects that slip out while carried (``grasp_drop``; they fall from the
+hand to the floor, where perception must find them again), transient obstacles
+(``path_blocked``).
+
+Durations on the simulated clock come from the HSR (../shared/HSR.md): driving at 0.22 m/s
+(0.8 km/h; a careful pose adjustment at half that), turning at 0.75 rad/s, every arm, head and
+gripper motion from its joints' top speeds (all joints of a motion move at once); a head sweep
+pans the camera across the head's whole range (-3.84 to 1.75 rad at 1 rad/s, 5.6 s); a
+close-range look points the head at the place and recognises for 1 s; physics settles for
+1 s after a release. docs/world.md lists them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pybullet as p
+
+from sim.camera import Camera
+from sim.motion import TOUCH, base_contacts, blocked, contacts, settle
+from sim.robot import RAISED, STOW
+from sim.room import build, inside, opening
+from sim.scenario.model import Scenario
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.worlds.base import Odometer, Outcome, Rates, WorldReferee
+from tidyplan.worlds.pybullet.drawer import Drawers
+from tidyplan.worlds.pybullet.hand import SETTLE_S, Hand
+from tidyplan.worlds.pybullet.look import HeadCamera
+from tidyplan.worlds.pybullet.put import HeldAs
+
+Point = tuple[float, float]
+
+STEP = 0.05  # m between collision checks along a path (the grid's cell)
+# A robot stopped by a contact backs off this far along its way: stopped where the last check
+# passed, it stood within a step of the obstacle, and the next path's first step (to the centre
+# of its grid cell) could run into it again, which pinned the robot where it stood.
+BACK_OFF = 0.10
+
+
+class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
+    """The HSR in pybullet. ``gui`` opens the pybullet window and follows the robot."""
+
+    @classmethod
+    def for_mission(cls, scenario: Scenario, room: RoomMap, settings) -> BulletWorld:
+        """The world for a mission's ``settings`` (``tidyplan.loop.mission.Settings``), the robot's
+        map of the furniture read back from the built scene."""
+        world = cls(scenario, room, seed=settings.seed, rates=settings.rates, gui=settings.gui)
+        world.room = RoomMap(world.scene.as_built())
+        return world
+
+    def __init__(
+        self,
+        scenario: Scenario,
+        room: RoomMap,
+        seed: int = 0,
+        rates: Rates = Rates(),  # noqa: B008 - frozen, never mutated
+        gui: bool = False,
+    ) -> None:
+        super().__init__(scenario, room, seed, rates)
+        self.gui = gui
+        self.client = p.connect(p.GUI if gui else p.DIRECT)
+        if gui:
+            p.configureDebugVisualizer(p.COV_ENABLE_GUI, 0, physicsClientId=self.client)
+        self.scene = build(scenario, self.client)
+        # (x0, x1, y0, y1) of what holds each deposit's objects: its tray's or its bin's inside
+        self.openings = {d.name: opening(scenario, d) for d in scenario.deposits}
+        self.hsr = self.scene.robot
+        s = scenario.sensing
+        self.camera = Camera(s.fov_h_deg, s.fov_v_deg, s.range_min, s.range_max)
+        self.bodies = dict(self.scene.items)
+        self._grip: int | None = None  # the grasp constraint
+        self._grip_offset = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+        self._last_released: str | None = None  # the object the last release let go of
+        # how the hand holds what it holds, to put it down as it stood, or stood on its end
+        self._held_as = HeldAs((0.0, 0.0, 0.0, 1.0), 0.0, 0.0, 0.0, (0.0, 0.0))
+        self._stood_up_as: HeldAs | None = None
+        self.knocked: list[str] = []  # tidied objects a release or a fall knocked out of their deposit
+        self._pan_forward = True  # sweeps alternate direction: no return swing
+        x, y, _ = self.hsr.base()
+        self.robot: Point = (x, y)
+        self.odometer = Odometer(track=[self.robot])
+        self._follow_camera()
+
+    def close(self) -> None:
+        if p.isConnected(self.client):
+            p.disconnect(self.client)
+
+    def holds(self) -> bool:
+        """The gripper's sensor: is something in the hand?"""
+        return self.holding is not None
+
+    def pose(self) -> Point:
+        return self.robot
+
+    # ------------------------------------------------------------------ actions
+    def follow(self, path: list[Point], monitor=None, *, careful: bool = False) -> Outcome:
+        """Drive along ``path`` kinematically at the HSR's speed (``careful``: half of it), testing
+        the base's collision shape every 5 cm; stop short of a contact (``path_blocked``), or
+        where a transient obstacle stands (the ``path_blocked`` fault). ``monitor.poll()`` runs
+        after every segment and stops the motion when it returns False (``interrupted``). An
+        object in the hand slips out on the way at the ``grasp_drop`` rate and falls: at the end
+        of the drawn segment, or of the first one after it where it is in the room and touches
+        nothing (``_free``)."""
+        speed = self.scenario.robot.speed / (2 if careful else 1)
+        n = len(path)
+        block_at, drop_at = self._faults_on_path(n)
+        ignore = self._ignored()
+        metres = seconds = 0.0
+        before = base_contacts(self.hsr, ignore)
+        passed = [self.robot]  # poses whose check passed, latest last
+        for k in range(1, n):
+            if k == block_at:
+                return Outcome(False, "path_blocked", seconds, metres)
+            a, b = path[k - 1], path[k]
+            steps = max(1, math.ceil(math.dist(a, b) / STEP))
+            for s in range(1, steps + 1):
+                q = (a[0] + (b[0] - a[0]) * s / steps, a[1] + (b[1] - a[1]) * s / steps)
+                self._place_base(q)
+                if blocked(base_contacts(self.hsr, ignore), before):
+                    back = next((r for r in reversed(passed) if math.dist(r, q) >= BACK_OFF), passed[0])
+                    d = math.dist(self.robot, back)
+                    self._place_base(back)  # stop short, and back off where the way was clear
+                    self._arrive(back, d, d / speed)
+                    return Outcome(False, "path_blocked", seconds + d / speed, metres + d)
+                d = math.dist(self.robot, q)
+                metres, seconds = metres + d, seconds + d / speed
+                self._arrive(q, d, d / speed)
+                passed.append(q)
+            if drop_at is not None and k >= drop_at and self.holding is not None and self._free():
+                self._slip()
+            if monitor is not None and not monitor.poll():
+                return Outcome(False, "interrupted", seconds, metres)
+        return Outcome(True, None, seconds, metres)
+
+    # ------------------------------------------------------------------ helpers
+    def _ignored(self) -> list[int]:
+        """What the base may touch: the floor, and the object in its own hand."""
+        return [self.scene.floor] + ([self.bodies[self.holding]] if self.holding else [])
+
+    def _place_base(self, q: Point) -> None:
+        self.hsr.set_base(q[0], q[1])
+        self._carry_along()
+
+    def _arrive(self, to: Point, metres: float, seconds: float) -> None:
+        self.robot = to
+        self.odometer.sim_time_s += seconds
+        self.odometer.distance_m += metres
+        if math.dist(self.odometer.track[-1], to) >= 0.1:  # the track at 10 cm: enough for plots
+            self.odometer.track.append(to)
+        self._follow_camera()
+
+    def _free(self) -> bool:
+        """Is the held object in the room, touching nothing but the robot (a graze aside)? It is
+        carried kinematically, through a table or a wall in its way: let go inside one, physics
+        would throw it out to the nearest side, the far side of a wall too; and held out far
+        enough over the base's edge, it is beyond the wall."""
+        held = self.bodies[self.holding]
+        x, y, _ = p.getBasePositionAndOrientation(held, physicsClientId=self.client)[0]
+        x0, x1, y0, y1 = self.scenario.bounds
+        touching = contacts(self.client, held, [self.hsr.body, self.scene.floor])
+        return x0 <= x <= x1 and y0 <= y <= y1 and all(d <= TOUCH for d in touching.values())
+
+    def _slip(self) -> None:
+        """The held object slips out (grasp_drop): the robot stops, the object falls from the hand,
+        pushed a little away from the base, and comes to rest wherever physics puts it. The hand
+        goes up out of its way first, as after a release: the fingers of a hand opened wide
+        would otherwise be inside an object wider than they open, and kick it."""
+        name = self.holding
+        body = self.bodies[name]
+        bx, by, _ = self.hsr.base()
+        pos = p.getBasePositionAndOrientation(body, physicsClientId=self.client)[0]
+        away = np.array([pos[0] - bx, pos[1] - by])
+        away = away / (np.linalg.norm(away) or 1.0)
+        speed = float(self.rng.uniform(0.1, 0.6))
+        self._release()
+        self.hsr.set_joints(RAISED)
+        p.resetBaseVelocity(body, (away[0] * speed, away[1] * speed, 0.0), physicsClientId=self.client)
+        self._settle()
+        self._sync(name)
+        self.items[name].state = "placed"
+        self.hsr.set_joints(STOW)
+
+    def _settle(self) -> None:
+        """Step physics with the robot holding still; then read back where every object rests: a
+        release or a fall may knock others over, out of a deposit too (no longer tidied)."""
+        settle(self.hsr, SETTLE_S)
+        for name, item in self.items.items():
+            if item.state == "held":
+                continue
+            self._sync(name)
+            if item.state == "tidied" and not inside(self.openings[item.deposit], (item.x, item.y)):
+                item.state, item.deposit = "placed", None
+                self.knocked.append(name)
+
+    def _sync(self, name: str) -> None:
+        """The truth of one object from pybullet: where it rests and on what."""
+        item = self.items[name]
+        body = self.bodies[name]
+        (x0, y0, z0), (x1, y1, z1) = p.getAABB(body, physicsClientId=self.client)
+        item.x, item.y = round((x0 + x1) / 2, 3), round((y0 + y1) / 2, 3)
+        # its extent as it lies now: a tall box that toppled covers more floor
+        item.sx, item.sy, item.sz = round(x1 - x0, 3), round(y1 - y0, 3), round(z1 - z0, 3)
+        item.on = "floor"
+        for f in self.scenario.furniture:
+            if f.box().clearance(item.x, item.y) == 0.0 and z0 > 0.03:
+                item.on = f.name
+                break
+
+    def _follow_camera(self) -> None:
+        if self.gui:
+            p.resetDebugVisualizerCamera(2.2, 45.0, -50.0, (*self.robot, 0.4), physicsClientId=self.client)

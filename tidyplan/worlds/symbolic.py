@@ -1,0 +1,286 @@
+"""A fast symbolic world with a hidden true state: the loop's test bench and scenario planner.
+
+What is hidden from the robot: where every item really is (some start where no waypoint sees
+them, or behind furniture), which paths are really open (an unseen floor item can block one),
+and whether an action works this time. The robot learns of the world only through action
+outcomes and looks. Geometry is the scenario's: paths on the occupancy grid with the true floor
+items as obstacles, line of sight against furniture and items (``sim.visibility``).
+
+Randomness comes from one seeded generator, drawn in a fixed order, so a seed fixes the run.
+
+The robot acts through skills the behaviour units call (``tidyplan.exec.units``): ``look``,
+``locate`` (close range), ``holds`` (the gripper's sensor), ``follow`` (a path, with a state
+monitor polled after every segment), ``grasp``, ``place``, ``put_down``, and for a deposit that
+is a drawer ``drawer_opening``, ``pull_handle``, ``push_drawer``. Faults by rate: grasps that
+close on nothing, placements that fail, false negatives and positives, items that fall while
+carried (``grasp_drop``), transient obstacles (``path_blocked``), handles that slip out of the
+hand (``handle_slip``) and drawers that jam part-way (``drawer_jam``).
+
+Durations on the simulated clock (our figures, documented in docs/trace.md): driving at the
+scenario's robot speed (the HSR's 0.8 km/h = 0.22 m/s by default); a careful pose adjustment at
+half that; a look 2 s (a head sweep); a close-range locate 1 s; a grasp 12 s, a placement 10 s,
+a drop 8 s (arm motions of a few seconds each, plus perception, as on the real HSR); reading how
+far a drawer is out 1 s; a pull or a push 8 s of arm motions plus the drawer's way at 0.1 m/s.
+"""
+
+from __future__ import annotations
+
+import math
+
+from sim.grid import Box
+from sim.scenario.model import DrawerLayout, Scenario, drawer_layout
+from sim.visibility import Box3, visible
+from tidyplan.belief.geometry import GRASP_MAX, RoomMap, free_spots
+from tidyplan.belief.state import Detection
+from tidyplan.worlds.base import PULL_SPEED, Odometer, Outcome, Rates, TrueItem, WorldReferee
+
+Point = tuple[float, float]
+
+LOOK_S, LOCATE_S, TAKE_S, DELIVER_S, DROP_S = 2.0, 1.0, 12.0, 10.0, 8.0
+TAKE_TOLERANCE = 0.15  # m: the gripper closes on an item this close to where it was located
+CLOSE_RANGE = 1.2  # m: what a close-range look (head down, hand camera) sees around the robot
+OPENING_S, HANDLE_S = 1.0, 8.0  # s: a look at a drawer's front; reach its handle, grip, let go, stow
+
+
+class SymbolicWorld(WorldReferee):
+    @classmethod
+    def for_mission(cls, scenario: Scenario, room: RoomMap, settings) -> SymbolicWorld:
+        """The world for a mission's ``settings`` (``tidyplan.loop.mission.Settings``)."""
+        return cls(scenario, room, seed=settings.seed, rates=settings.rates)
+
+    def __init__(
+        self,
+        scenario: Scenario,
+        room: RoomMap,
+        seed: int = 0,
+        rates: Rates = Rates(),  # noqa: B008 - frozen, never mutated
+    ) -> None:
+        super().__init__(scenario, room, seed, rates)
+        self.robot: Point = room.entrance
+        self.odometer = Odometer(track=[self.robot])
+        self._furniture = [Box3.from_furniture(f) for f in scenario.furniture]
+        layouts = {d.name: drawer_layout(scenario.furniture, d) for d in scenario.deposits}
+        self.drawers: dict[str, DrawerLayout] = {n: x for n, x in layouts.items() if x is not None}
+        self.opened = {n: x.start for n, x in self.drawers.items()}  # m each drawer is out
+        self.jammed: dict[str, float] = {}  # where a jammed drawer is stuck
+
+    # ------------------------------------------------------------------ sensing
+    def look(self) -> list[Detection]:
+        """Items in range and line of sight, each missed at the false-negative rate; a phantom at
+        the false-positive rate (a random category, somewhere in view on the floor)."""
+        self._spend(LOOK_S)
+        s = self.scenario.sensing
+        cam = (self.robot[0], self.robot[1], s.camera_height)
+        out = []
+        for it in sorted(self._placed(), key=lambda t: t.name):
+            occ = [b for b in self._furniture if b.name != it.on] + [
+                self._box3(o) for o in self._placed() if o is not it
+            ]
+            z = self._base_z(it) + it.sz / 2
+            miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
+            if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max) and not miss:
+                out.append(Detection(it.category, it.x, it.y, it.on, it.sx, it.sy, it.sz))
+        return out + self._phantom()
+
+    def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None:
+        """Close-range look (head tilted down, the hand camera): the placed item nearest ``near``
+        within ``radius`` of it and within close range of the robot; missed at the false-negative
+        rate. This is how a unit's check finds its target, also one the head camera's minimum
+        range cannot see (at the robot's feet, where a dropped item lands)."""
+        self._spend(LOCATE_S)
+        found = [
+            o
+            for o in self._placed()
+            if math.dist((o.x, o.y), near) <= radius
+            and math.dist((o.x, o.y), self.robot) <= CLOSE_RANGE
+            and (category is None or o.category == category)
+        ]
+        if self.rng.random() < self.fn or not found:
+            return None
+        o = min(found, key=lambda o: (math.dist((o.x, o.y), near), o.name))
+        return Detection(o.category, o.x, o.y, o.on, o.sx, o.sy, o.sz)
+
+    def holds(self) -> bool:
+        """The gripper's sensor (finger angle, wrist force): is something in the hand?"""
+        return self.holding is not None
+
+    def pose(self) -> Point:
+        return self.robot
+
+    # ------------------------------------------------------------------ actions
+    def follow(self, path: list[Point], monitor=None, *, careful: bool = False) -> Outcome:
+        """Drive along ``path`` (its first point is where the robot is) at the robot's speed
+        (``careful``: half of it, a pose adjustment). Stops before the first point the true
+        footprint does not fit (an obstacle nobody has seen, or a transient one the
+        ``path_blocked`` fault puts there): ``path_blocked``. ``monitor.poll()`` runs after every
+        segment and stops the motion at once when it returns False (``interrupted``). An item in
+        the hand falls on the way at the ``grasp_drop`` rate."""
+        speed = self.scenario.robot.speed / (2 if careful else 1)
+        n = len(path)
+        block_at, drop_at = self._faults_on_path(n)
+        floor = [self._box(o) for o in self._placed() if o.on == "floor"]
+        bare = self.room.grid(floor, bare=True)
+        metres = seconds = 0.0
+        for k in range(1, n):
+            if k == block_at or not _segment_free(bare, path[k - 1], path[k]):
+                return self._stopped("path_blocked", metres, seconds)
+            d = math.dist(path[k - 1], path[k])
+            metres, seconds = metres + d, seconds + d / speed
+            self._arrive(path[k], d, d / speed)
+            if k == drop_at:
+                self._fall()
+            if monitor is not None and not monitor.poll():
+                return self._stopped("interrupted", metres, seconds)
+        return Outcome(True, None, seconds, metres)
+
+    def grasp(self, target: Point) -> Outcome:
+        """Close the gripper on the item at ``target`` (where a check located it); ``grasp_fail``
+        at 1 - the take rate leaves the item where it was."""
+        if self.holding is not None:
+            return self._fail("hand_full", 1.0)
+        near = [
+            o
+            for o in self._placed()
+            if math.dist((o.x, o.y), target) <= TAKE_TOLERANCE
+            and math.dist((o.x, o.y), self.robot) <= GRASP_MAX + 0.1
+        ]
+        if not near:
+            return self._fail("not_found", TAKE_S / 2)
+        if self.rng.random() >= self.rates.take:
+            return self._fail("grasp_fail", TAKE_S)
+        item = min(near, key=lambda o: (math.dist((o.x, o.y), target), o.name))
+        item.state, self.holding = "held", item.name
+        return self._spend(TAKE_S)
+
+    def place(self, deposit: str, approach: Point) -> Outcome:
+        """Put the held item into ``deposit`` from its approach pose; ``place_fail`` at
+        1 - the deliver rate keeps it in the hand."""
+        if self.holding is None:
+            return self._fail("hand_empty", 1.0)
+        if math.dist(self.robot, approach) > 0.1:
+            return self._fail("not_at_deposit", 1.0)
+        item = self.items[self.holding]
+        drawer = self.drawers.get(deposit)
+        if drawer is not None and not drawer.takes(self.opened[deposit], (item.sx, item.sy)):
+            return self._fail("deposit_closed", OPENING_S)  # the hand never goes out: it stays in it
+        if self.rng.random() >= self.rates.deliver:
+            return self._fail("place_fail", DELIVER_S)
+        d = next(d for d in self.scenario.deposits if d.name == deposit)
+        k = sum(o.state == "tidied" and o.deposit == deposit for o in self.items.values())
+        # side by side in the tray, on a 5 x 5 lattice 4 cm apart: a look into the deposit tells
+        # them apart (25 places: a deposit of the 96-object room receives 24); in a drawer, in
+        # rows across its part out of the carcass, 2 cm apart along the slide
+        if drawer is None:
+            item.x, item.y = round(d.x + 0.04 * (k % 5 - 2), 3), round(d.y + 0.04 * (k // 5 % 5 - 2), 3)
+        else:
+            x0, x1, y0, y1 = drawer.exposed(self.opened[deposit])
+            across, along = 0.04 * (k % 5 - 2), 0.02 * (k // 5 % 3 - 1)
+            dx, dy = (along, across) if drawer.k == 0 else (across, along)
+            item.x, item.y = round((x0 + x1) / 2 + dx, 3), round((y0 + y1) / 2 + dy, 3)
+        item.state, item.deposit, self.holding = "tidied", deposit, None
+        return self._spend(DELIVER_S)
+
+    def put_down(self, spot: Point) -> Outcome:
+        """Put the held item on the floor at ``spot`` (next to the robot); ``place_fail`` at
+        1 - the drop rate, or when something the robot has not seen is lying there."""
+        if self.holding is None:
+            return self._fail("hand_empty", 1.0)
+        if self.rng.random() >= self.rates.drop or any(
+            math.dist(spot, (o.x, o.y)) < 0.2 for o in self._placed()
+        ):
+            return self._fail("place_fail", DROP_S)
+        item = self.items[self.holding]
+        item.x, item.y, item.on, item.state, self.holding = spot[0], spot[1], "floor", "placed", None
+        out = self._spend(DROP_S)
+        return Outcome(True, None, out.seconds, 0.0, spot)
+
+    # ------------------------------------------------------------------ drawers
+    def drawer_opening(self, deposit: str) -> float:
+        """How far the deposit's drawer is out (m; 0.0 closed): a look at its front."""
+        self._spend(OPENING_S)
+        return round(self.opened[deposit], 3)
+
+    def pull_handle(self, deposit: str) -> Outcome:
+        """Grip the drawer's handle from the approach and pull it out by its travel, with the hand
+        empty; the handle slips part-way at the ``handle_slip`` rate (``handle_slip``: it stays
+        where it got), the drawer sticks at 30-70 % of its travel at the ``drawer_jam`` rate
+        (``drawer_jammed``: it goes no farther until pushed back closed)."""
+        layout, opening = self.drawers[deposit], self.opened[deposit]
+        stop, failure, jammed = self._pull_faults(self.jammed.get(deposit), opening, layout.spec.travel)
+        refused = self._refused(deposit)
+        if refused is not None:
+            return refused
+        if jammed is not None:
+            self.jammed[deposit] = jammed
+        self._slide(deposit, stop)
+        seconds = (HANDLE_S if stop > opening or failure else OPENING_S) + (stop - opening) / PULL_SPEED
+        return self._fail(failure, seconds) if failure else self._spend(seconds)
+
+    def push_drawer(self, deposit: str) -> Outcome:
+        """Push the drawer back closed from the approach, with the hand empty: it is free again."""
+        refused = self._refused(deposit)
+        if refused is not None:
+            return refused
+        opening = self.opened[deposit]
+        self.jammed.pop(deposit, None)
+        self._slide(deposit, 0.0)
+        return self._spend((HANDLE_S if opening > 0 else OPENING_S) + opening / PULL_SPEED)
+
+    def _refused(self, deposit: str) -> Outcome | None:
+        """Why the hand cannot go to the drawer's handle: full, or not at the deposit's approach."""
+        if self.holding is not None:
+            return self._fail("hand_full", 1.0)
+        approach = next(d.approach for d in self.scenario.deposits if d.name == deposit)
+        if math.dist(self.robot, approach) > 0.1:
+            return self._fail("not_at_deposit", 1.0)
+        return None
+
+    def _slide(self, deposit: str, to: float) -> None:
+        """The drawer to ``to`` m out, the items in it along with it."""
+        layout = self.drawers[deposit]
+        step = to - self.opened[deposit]
+        for o in self.items.values():
+            if o.state == "tidied" and o.deposit == deposit:
+                if layout.k == 0:
+                    o.x = round(o.x + layout.sign * step, 3)
+                else:
+                    o.y = round(o.y + layout.sign * step, 3)
+        self.opened[deposit] = to
+
+    # ------------------------------------------------------------------ helpers
+    def _base_z(self, o: TrueItem) -> float:
+        return 0.0 if o.on == "floor" else self.scenario.furniture_named(o.on).height
+
+    def _box3(self, o: TrueItem) -> Box3:
+        return Box3.from_item(o, self._base_z(o))
+
+    @staticmethod
+    def _box(o: TrueItem) -> Box:
+        return Box(o.x, o.y, o.sx, o.sy, o.name)
+
+    def _fall(self) -> None:
+        """The held item slips out and lands on free floor near the robot (grasp_drop)."""
+        item = self.items[self.holding]
+        spots = free_spots(self.scenario, self.robot, [(o.x, o.y) for o in self._placed()], (0.32, 0.45))
+        k = int(self.rng.integers(0, len(spots))) if spots else None
+        x, y = spots[k] if k is not None else self.robot
+        item.x, item.y, item.on, item.state, self.holding = x, y, "floor", "placed", None
+
+    def _stopped(self, failure: str, metres: float, seconds: float) -> Outcome:
+        return Outcome(False, failure, seconds, metres)
+
+    def _arrive(self, to: Point, metres: float, seconds: float) -> Outcome:
+        self.robot = to
+        self.odometer.sim_time_s += seconds
+        self.odometer.distance_m += metres
+        self.odometer.track.append(to)
+        if self.holding is not None:
+            held = self.items[self.holding]
+            held.x, held.y = to
+        return Outcome(True, None, seconds, metres)
+
+
+def _segment_free(grid, a: Point, b: Point, step: float = 0.05) -> bool:
+    """Every point from a (excluded: the robot is there) to b, ``step`` apart, fits the robot."""
+    n = max(1, math.ceil(math.dist(a, b) / step))
+    return all(grid.free(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) for k in range(1, n + 1))
