@@ -32,8 +32,8 @@ def fill(scenario, room, deposit, order, rnd) -> tuple[list, list[str]]:
     import pybullet as p
 
     from sim.motion import settle
-    from tidyplan.worlds.base import Rates
     from tidyplan.worlds.pybullet.world import BulletWorld
+    from tidyplan.worlds.rates import Rates
 
     w = BulletWorld(
         scenario, room, seed=0, rates=Rates(1.0, 1.0, 1.0, false_negative=0.0, false_positive=0.0)

@@ -60,7 +60,8 @@ def first_plans(
     scenario: Path, trace: Path, planner: str, seed: int, replans: int, budget: float
 ) -> list[dict]:
     """The `plan` events of a symbolic mission, stopped once it has made `replans` of them."""
-    from tidyplan.loop.mission import Settings, run
+    from tidyplan.loop.mission import run
+    from tidyplan.loop.options import Settings
 
     made = []
 

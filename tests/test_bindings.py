@@ -18,7 +18,7 @@ from tidyplan.exec import catalogue
 from tidyplan.exec.binding_check import check_bindings
 from tidyplan.exec.bindings import BUILD, MonitoredExecutor
 from tidyplan.exec.units import AdjustBase, Context, Grasp
-from tidyplan.loop.mission import DOMAIN, project_file
+from tidyplan.loop.scenarios import DOMAIN, project_file
 from tidyplan.pddl.reader import parse
 from tidyplan.planning.planner import Step
 

@@ -15,10 +15,10 @@ import pytest
 
 from sim.scenario.read import loads
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.cli.run import parse_faults
-from tidyplan.loop.mission import Settings, run
-from tidyplan.worlds.base import Rates
+from tidyplan.loop.mission import run
+from tidyplan.loop.options import Settings
 from tidyplan.worlds.pybullet.world import BACK_OFF, STEP, BulletWorld
+from tidyplan.worlds.rates import Rates
 
 NO_FALSE_DETECTIONS = Rates(false_negative=0.0, false_positive=0.0)
 BASE_RADIUS = 0.215  # m: the base's collision cylinder, 430 mm across (HSR.md)
@@ -237,7 +237,7 @@ def test_a_dropped_object_is_found_again_and_tidied(tmp_path):
     # every carrying drive would drop it forever.
     trace = tmp_path / "drop.jsonl"
     settings = Settings(
-        world="pybullet", planner="lama-first", time_budget=0.5, seed=2, rates=parse_faults("grasp_drop=0.5")
+        world="pybullet", planner="lama-first", time_budget=0.5, seed=2, rates=Rates.parse("grasp_drop=0.5")
     )
     run(loads(MINI, "mini.toml"), trace, settings)
     events = _events(trace)
@@ -312,7 +312,7 @@ position = [1.5, 0.9]
 @pytest.mark.slow
 def test_a_small_room_is_tidied_end_to_end_in_pybullet(tmp_path):
     trace = tmp_path / "small.jsonl"
-    rates = parse_faults("")  # the default rates: grasps fail at 0.05, looks miss at 0.2 ...
+    rates = Rates.parse("")  # the default rates: grasps fail at 0.05, looks miss at 0.2 ...
     settings = Settings(world="pybullet", planner="lama-first", time_budget=0.5, seed=0, rates=rates)
     summary = run(loads(SMALL, "small.toml"), trace, settings)
     times = f"sim_time_s={summary['sim_time_s']} wall_time_s={summary['wall_time_s']}: {summary}"

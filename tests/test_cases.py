@@ -13,8 +13,9 @@ import pytest
 from sim.scenario.read import load
 from sim.visibility import visible_items
 from tidyplan.belief.geometry import ENTRANCE, Placed, RoomMap, deposit_waypoint
-from tidyplan.cli.run import parse_faults
-from tidyplan.loop.mission import Settings, run
+from tidyplan.loop.mission import run
+from tidyplan.loop.options import Settings
+from tidyplan.worlds.rates import Rates
 
 PROBLEMS = Path(__file__).resolve().parent.parent / "problems"
 CASES = ["case1", "case2", "case3"]
@@ -63,7 +64,7 @@ def test_what_the_case_blocks_no_path_reaches(name):
 def test_ofsm_tidies_all_12_objects(name, tmp_path):
     # lama-first: its first plan, whatever the machine's speed (with LAMA's anytime search and a
     # 0.5 s budget, case II once ended in a fresh clone's full run with "no plan" for nine items)
-    settings = Settings("ofsm", seed=1, planner="lama-first", time_budget=30.0)
+    settings = Settings("ofsm", seed=1, planner="lama-first", time_budget=30.0, world="symbolic")
     summary = run(PROBLEMS / f"{name}.toml", tmp_path / "t.jsonl", settings)
     assert summary["success"], summary["reason"]
     assert summary["delivered"] == 12 and summary["lost_objects"] == 0
@@ -80,10 +81,12 @@ def test_with_faults_on_nothing_is_lost(name, tmp_path):
     # in its second, and so the run, depends on how loaded the machine is
     # Seeds from 2 on until one drops something in transit (which seed does depends on the
     # plans, and so on the planner): every run loses nothing and tidies all.
-    rates = parse_faults("grasp_drop=0.2,perception_miss=0.2,perception_false=0.05")
+    rates = Rates.parse("grasp_drop=0.2,perception_miss=0.2,perception_false=0.05")
     for seed in range(2, 7):
         trace = tmp_path / f"t{seed}.jsonl"
-        settings = Settings("ofsm", seed=seed, rates=rates, planner="lama-first", time_budget=30.0)
+        settings = Settings(
+            "ofsm", seed=seed, rates=rates, planner="lama-first", time_budget=30.0, world="symbolic"
+        )
         summary = run(PROBLEMS / f"{name}.toml", trace, settings)
         assert summary["lost_objects"] == 0, seed
         assert summary["success"], (seed, summary["reason"])
@@ -101,7 +104,7 @@ def test_greedy_fails_where_p1_cannot_go_on(name, tmp_path):
     summary = run(
         PROBLEMS / f"{name}.toml",
         tmp_path / "t.jsonl",
-        Settings("greedy", seed=1, planner="lama-first", time_budget=0.5),
+        Settings("greedy", seed=1, planner="lama-first", time_budget=0.5, world="symbolic"),
     )
     assert not summary["success"]
     assert summary["delivered"] < 12

@@ -14,7 +14,9 @@ from tidyplan.belief.geometry import RoomMap
 from tidyplan.belief.state import Belief
 from tidyplan.exec.bindings import MonitoredExecutor
 from tidyplan.loop.loop import LoopConfig, Mission
-from tidyplan.loop.mission import DOMAIN, Settings, run
+from tidyplan.loop.mission import run
+from tidyplan.loop.options import Settings
+from tidyplan.loop.scenarios import DOMAIN
 from tidyplan.loop.triggers import Cause
 from tidyplan.pddl.reader import parse
 from tidyplan.pddl.simulate import Simulator
@@ -74,7 +76,7 @@ def test_a_plan_under_the_threshold_as_a_whole_is_adopted_when_its_commitment_is
     summary = run(
         _scenario("four", toys),
         trace,
-        Settings(rates=rates, planner="lama-first", time_budget=0.5, min_probability=0.8),
+        Settings(world="symbolic", rates=rates, planner="lama-first", time_budget=0.5, min_probability=0.8),
     )
     first = _plans(_events(trace))[0]
     assert first["probability"] < 0.8 <= first["commitment_probability"] and first["adopted"]
@@ -87,7 +89,7 @@ def test_a_commitment_under_the_threshold_ends_the_mission_with_the_rule_named(t
     summary = run(
         _scenario("one", [("t1", 1.8, 1.0)]),
         trace,
-        Settings(rates=EXACT, planner="lama-first", min_probability=0.99),
+        Settings(world="symbolic", rates=EXACT, planner="lama-first", min_probability=0.99),
     )
     events = _events(trace)
     assert not summary["success"]

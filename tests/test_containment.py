@@ -21,8 +21,8 @@ from sim.motion import settle
 from sim.room import DOOR
 from sim.scenario.read import load
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.worlds.base import Rates
 from tidyplan.worlds.pybullet.world import BulletWorld
+from tidyplan.worlds.rates import Rates
 
 pytestmark = pytest.mark.slow
 

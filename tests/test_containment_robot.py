@@ -15,8 +15,8 @@ from sim.motion import TOUCH, base_contacts, contacts, settle
 from sim.scenario.read import load, loads
 from tests.test_containment import CASE1, _outside
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.worlds.base import Rates
 from tidyplan.worlds.pybullet.world import BulletWorld
+from tidyplan.worlds.rates import Rates
 from tidyplan.worlds.symbolic import SymbolicWorld
 
 pytestmark = pytest.mark.slow

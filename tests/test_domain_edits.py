@@ -11,7 +11,7 @@ import math
 import pytest
 
 from tidyplan.cli.main import main
-from tidyplan.loop.mission import DOMAIN, project_file
+from tidyplan.loop.scenarios import DOMAIN, project_file
 
 pytestmark = pytest.mark.slow
 TIDY = DOMAIN.read_text()

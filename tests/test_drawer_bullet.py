@@ -15,7 +15,8 @@ from sim.scenario.model import drawer_layout
 from sim.scenario.read import load, loads
 from tests.test_drawer_world import SURE, TRAVEL, WRS_DRAWER, _approach
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.worlds.base import PULL_SPEED, Rates
+from tidyplan.worlds.base import PULL_SPEED
+from tidyplan.worlds.rates import Rates
 from tidyplan.worlds.symbolic import OPENING_S
 
 

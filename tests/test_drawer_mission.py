@@ -10,7 +10,7 @@ import json
 import pytest
 
 from tidyplan.cli.main import main
-from tidyplan.loop.mission import project_file
+from tidyplan.loop.scenarios import project_file
 
 pytestmark = pytest.mark.slow
 

@@ -15,8 +15,8 @@ import pytest
 from sim.scenario.model import drawer_layout
 from sim.scenario.read import load
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.cli.run import parse_faults
-from tidyplan.worlds.base import PULL_SPEED, Rates
+from tidyplan.worlds.base import PULL_SPEED
+from tidyplan.worlds.rates import Rates
 from tidyplan.worlds.symbolic import HANDLE_S, OPENING_S, SymbolicWorld
 
 WRS_DRAWER = Path(__file__).resolve().parents[1] / "problems" / "wrs-drawer.toml"
@@ -77,11 +77,11 @@ def test_the_drawer_slides_out_towards_the_approach_and_clears_the_base(scenario
 
 
 def test_faults_name_the_drawer_rates():
-    rates = parse_faults("handle_slip=0.3,drawer_jam=0.2")
+    rates = Rates.parse("handle_slip=0.3,drawer_jam=0.2")
     assert (rates.handle_slip, rates.drawer_jam) == (0.3, 0.2)
     # by default a pull slips at 1 - open_drawer's probability in tidy.pddl (0.95); no jams
     assert (Rates().handle_slip, Rates().drawer_jam) == (0.05, 0.0)
-    assert parse_faults("").handle_slip == 0.05
+    assert Rates.parse("").handle_slip == 0.05
 
 
 # ---------------------------------------------------------------------- the symbolic world

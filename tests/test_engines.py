@@ -221,7 +221,7 @@ def test_a_signal_mid_search_stops_tidyplan_and_its_engine(signum, status, tmp_p
 
 
 def test_the_mission_plans_with_lama_and_tidyplan_plan_with_lama_optimal():
-    from tidyplan.loop.mission import Settings
+    from tidyplan.loop.options import Settings
     from tidyplan.planning.engines import MISSION_ENGINE
 
     assert Settings().planner == MISSION_ENGINE == "lama"

@@ -11,7 +11,7 @@ from dataclasses import fields
 import pytest
 
 import tidyplan
-from tidyplan.loop.mission import project_file
+from tidyplan.loop.scenarios import project_file
 
 
 def test_the_shipped_domain_and_scenarios_are_found_from_the_package():
@@ -29,7 +29,7 @@ def test_the_shipped_domain_and_scenarios_are_found_from_the_package():
         ({"first_plan_limit": 0}, "first_plan_limit: 0 is not a positive number of seconds"),
         ({"time_budget": float("nan")}, "time_budget: nan is not a positive number of seconds"),
         ({"patience": -1.0}, "patience: -1.0 is not a number of seconds >= 0"),
-        ({"faults": "grasp_drop=2"}, "--faults: grasp_drop=2: the rate must be in [0, 1]"),
+        ({"faults": "grasp_drop=2"}, "faults: grasp_drop=2: the rate must be in [0, 1]"),
         ({"planner": "no-such-planner"}, "no-such-planner"),
     ],
 )
@@ -37,6 +37,7 @@ def test_bad_options_raise_input_error_before_anything_runs(options, message):
     with pytest.raises(tidyplan.InputError) as err:
         tidyplan.run("case1", **options)
     assert message in str(err.value)
+    assert "--" not in str(err.value), "a Python caller is told the keyword, not the command-line option"
 
 
 def test_a_scenario_that_is_neither_shipped_nor_a_file_is_input_error(tmp_path):

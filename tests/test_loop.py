@@ -15,8 +15,10 @@ import pytest
 
 from sim.scenario.read import loads
 from tidyplan.exec.bindings import MonitoredExecutor
-from tidyplan.loop.mission import Settings, run
-from tidyplan.worlds.base import Outcome, Rates
+from tidyplan.loop.mission import run
+from tidyplan.loop.options import Settings
+from tidyplan.worlds.base import Outcome
+from tidyplan.worlds.rates import Rates
 from tidyplan.worlds.symbolic import SymbolicWorld
 
 # A toy in the far corner behind a crate as tall as a table: no look finds it and no grasp
@@ -74,7 +76,9 @@ def _run(tmp_path, scenario, rates=EXACT, **kw):
     the plan a good planner makes."""
     trace = tmp_path / "trace.jsonl"
     summary = run(
-        scenario, trace, Settings(**{"rates": rates, "planner": "optimal", "time_budget": 0.5, **kw})
+        scenario,
+        trace,
+        Settings(**{"world": "symbolic", "rates": rates, "planner": "optimal", "time_budget": 0.5, **kw}),
     )
     return summary, _events(trace)
 
@@ -355,7 +359,7 @@ def test_the_action_limit_grows_with_the_items_the_robot_knows_of(tmp_path):
     from tidyplan.belief.state import Belief, Detection
     from tidyplan.exec.bindings import MonitoredExecutor
     from tidyplan.loop.loop import LoopConfig, Mission
-    from tidyplan.loop.mission import DOMAIN
+    from tidyplan.loop.scenarios import DOMAIN
     from tidyplan.trace.writer import TraceWriter
     from tidyplan.worlds.symbolic import SymbolicWorld
 
@@ -383,7 +387,7 @@ def test_a_goal_not_planned_in_time_is_not_reported_as_proven(tmp_path):
     from tidyplan.belief.state import Belief
     from tidyplan.exec.bindings import MonitoredExecutor
     from tidyplan.loop.loop import Mission
-    from tidyplan.loop.mission import DOMAIN
+    from tidyplan.loop.scenarios import DOMAIN
     from tidyplan.planning.planner import PlanResult, Status
     from tidyplan.trace.writer import NoTrace
     from tidyplan.worlds.symbolic import SymbolicWorld

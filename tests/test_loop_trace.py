@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 from tests.test_loop import _events, _plans, _run, _scenario
-from tidyplan.loop.mission import Settings, run
-from tidyplan.worlds.base import Rates
+from tidyplan.loop.mission import run
+from tidyplan.loop.options import Settings
+from tidyplan.worlds.rates import Rates
 
 
 def test_every_plan_event_names_its_saved_pddl(tmp_path):
@@ -23,7 +24,11 @@ def test_same_seed_same_trace(tmp_path):
     runs = []
     for k in range(2):
         trace = tmp_path / f"t{k}.jsonl"
-        run(scenario, trace, Settings(seed=7, rates=rates, planner="lama-first", time_budget=5.0))
+        run(
+            scenario,
+            trace,
+            Settings(world="symbolic", seed=7, rates=rates, planner="lama-first", time_budget=5.0),
+        )
         runs.append([_stable(e) for e in _events(trace)])
     assert runs[0] == runs[1]
 

@@ -20,7 +20,7 @@ from tidyplan.belief.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
 from tidyplan.belief.state import Belief, Detection
 from tidyplan.exec.bindings import MonitoredExecutor
 from tidyplan.loop.loop import Mission
-from tidyplan.loop.mission import DOMAIN
+from tidyplan.loop.scenarios import DOMAIN
 from tidyplan.pddl.criterion import Score
 from tidyplan.planning.planner import PlanResult, Status, Step
 from tidyplan.trace.writer import NoTrace

@@ -74,7 +74,7 @@ def _case1_belief():
 def test_the_problem_is_the_model_in_what_the_domain_declares():
     """Built for a domain, the problem has its name and only the predicates and functions it
     declares; the text saved beside the trace reads back to the same problem."""
-    from tidyplan.loop.mission import DOMAIN
+    from tidyplan.loop.scenarios import DOMAIN
 
     tidy = DOMAIN.read_text()
     lean = tidy.replace("    (p-item-near ?w - waypoint) - number)", ")").replace(
@@ -91,7 +91,7 @@ def test_the_problem_is_the_model_in_what_the_domain_declares():
 
 
 def test_a_predicate_of_the_domains_own_comes_from_the_scenarios_facts_or_is_false():
-    from tidyplan.loop.mission import DOMAIN
+    from tidyplan.loop.scenarios import DOMAIN
 
     own = DOMAIN.read_text().replace(
         "    (shortest-paths))", "    (shortest-paths)\n    (fragile ?d - deposit))"

@@ -362,7 +362,7 @@ def test_a_drawer_and_facts_are_written_out_and_read_back_unchanged():
     from dataclasses import replace
 
     from sim.scenario.write import dumps
-    from tidyplan.loop.mission import project_file
+    from tidyplan.loop.scenarios import project_file
 
     s = replace(
         load(project_file("problems/wrs-drawer.toml")), facts=(("fragile", "tray"), ("shortest-paths",))

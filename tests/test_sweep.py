@@ -18,7 +18,7 @@ from processes import descendants, still_running_after
 
 from tidyplan.cli.main import main
 from tidyplan.errors import InputError
-from tidyplan.loop.mission import project_file
+from tidyplan.loop.scenarios import project_file
 from tidyplan.sweep import report as sweep_report
 from tidyplan.sweep.grid import RESULTS, MissionConfig, Table, canonical_faults, grid, parse_seeds, run_sweep
 
@@ -201,7 +201,8 @@ def test_sweep_refuses_bad_input_with_exit_2(capsys, tmp_path):
 
 @pytest.mark.slow
 def test_sweep_of_real_missions_matches_single_runs_and_reports(capsys, tmp_path):
-    from tidyplan.loop.mission import Settings, run
+    from tidyplan.loop.mission import run
+    from tidyplan.loop.options import Settings
 
     out = tmp_path / "sweep"
     args = ["sweep", CASE1, "--seeds", "0-1", "--world", "symbolic", "--planner", "lama-first"]

@@ -19,10 +19,12 @@ import pytest
 from matplotlib.image import imread
 
 from tidyplan.cli.main import main
-from tidyplan.cli.run import parse_faults
-from tidyplan.loop.mission import Settings, project_file, run
+from tidyplan.loop.mission import run
+from tidyplan.loop.options import Settings
+from tidyplan.loop.scenarios import project_file
 from tidyplan.trace.plot import CLASS_COLOURS, PLAN_COLOURS
 from tidyplan.trace.read import adopted, read_trace, summarise
+from tidyplan.worlds.rates import Rates
 
 CONTRACT = (
     "replans replan_causes actions strata recoveries distance_m sim_time_s wall_time_s success "
@@ -38,7 +40,7 @@ def _mission(folder: Path, name: str, **settings) -> tuple[Path, dict]:
     summary = run(
         project_file("problems/case1.toml"),
         trace,
-        Settings(planner="lama-first", time_budget=0.5, **settings),
+        Settings(**{"world": "symbolic", "planner": "lama-first", "time_budget": 0.5, **settings}),
     )
     return trace, summary
 
@@ -47,7 +49,7 @@ def _mission(folder: Path, name: str, **settings) -> tuple[Path, dict]:
 def faulty(tmp_path_factory) -> tuple[Path, dict]:
     """Case I, O-FSM, seed 1, items dropped while carried and missed by the camera."""
     folder = tmp_path_factory.mktemp("ofsm")
-    return _mission(folder, "ofsm", seed=1, rates=parse_faults("grasp_drop=0.2,perception_miss=0.2"))
+    return _mission(folder, "ofsm", seed=1, rates=Rates.parse("grasp_drop=0.2,perception_miss=0.2"))
 
 
 @pytest.fixture(scope="module")

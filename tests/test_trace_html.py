@@ -25,11 +25,13 @@ from pathlib import Path
 import pytest
 
 from tidyplan.cli.main import main
-from tidyplan.cli.run import parse_faults
-from tidyplan.loop.mission import Settings, project_file, run
+from tidyplan.loop.mission import run
+from tidyplan.loop.options import Settings
+from tidyplan.loop.scenarios import project_file
 from tidyplan.trace.diff import replan_diff
 from tidyplan.trace.html import keyframes, page, page_data, pose_at
 from tidyplan.trace.read import adopted, read_trace, summarise
+from tidyplan.worlds.rates import Rates
 
 CHROMIUM = Path("/usr/bin/chromium")
 NEEDS_CHROMIUM = pytest.mark.skipif(
@@ -224,11 +226,11 @@ def test_html_takes_one_trace(tiny, tmp_path, capsys):
 def mission(tmp_path_factory) -> Path:
     """Case I, O-FSM, seed 1, items dropped while carried and missed by the camera."""
     trace = tmp_path_factory.mktemp("html") / "ofsm.jsonl"
-    rates = parse_faults("grasp_drop=0.2,perception_miss=0.2")
+    rates = Rates.parse("grasp_drop=0.2,perception_miss=0.2")
     run(
         project_file("problems/case1.toml"),
         trace,
-        Settings(planner="lama-first", time_budget=0.5, seed=1, rates=rates),
+        Settings(world="symbolic", planner="lama-first", time_budget=0.5, seed=1, rates=rates),
     )
     return trace
 

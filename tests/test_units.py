@@ -10,7 +10,8 @@ from dataclasses import replace
 
 from tests.test_loop import EXACT, _scenario
 from tidyplan.belief.geometry import Placed, RoomMap
-from tidyplan.loop.mission import Settings, run
+from tidyplan.loop.mission import run
+from tidyplan.loop.options import Settings
 from tidyplan.monitor.unit import FailureClass, StateMonitor
 from tidyplan.worlds.base import Outcome
 from tidyplan.worlds.symbolic import SymbolicWorld
@@ -62,7 +63,11 @@ def test_a_drop_in_transit_is_picked_up_by_an_inserted_unit_and_the_drive_resume
     scenario = _scenario("drop", [("t1", 1.8, 1.0)])
     trace = tmp_path / "t.jsonl"
     summary = run(
-        scenario, trace, Settings(rates=replace(EXACT, grasp_drop=1.0), planner="lama-first", time_budget=0.5)
+        scenario,
+        trace,
+        Settings(
+            world="symbolic", rates=replace(EXACT, grasp_drop=1.0), planner="lama-first", time_budget=0.5
+        ),
     )
     assert summary["success"] and summary["lost_objects"] == 0
     assert summary["replans"] == 0  # mended inside the action: the planner never knew
@@ -129,7 +134,9 @@ def test_an_item_the_arm_cannot_place_as_held_is_put_down_and_taken_again(tmp_pa
     monkeypatch.setattr(SymbolicWorld, "place", place)
     scenario = _scenario("regrasp", [("t1", 1.8, 1.0)])
     trace = tmp_path / "t.jsonl"
-    summary = run(scenario, trace, Settings(rates=EXACT, planner="lama-first", time_budget=0.5))
+    summary = run(
+        scenario, trace, Settings(world="symbolic", rates=EXACT, planner="lama-first", time_budget=0.5)
+    )
     assert summary["success"] and summary["lost_objects"] == 0 and len(calls) == 2
     events = _events(trace)
     insert = next(e for e in events if e["kind"] == "recovery" and e["failure"] == "out_of_reach")
@@ -157,7 +164,9 @@ def test_an_action_that_keeps_failing_after_recovery_gives_its_item_up(tmp_path,
     monkeypatch.setattr(SymbolicWorld, "place", place)
     scenario = _scenario("stuck", [("t1", 1.8, 1.0)])
     trace = tmp_path / "t.jsonl"
-    summary = run(scenario, trace, Settings(rates=EXACT, planner="lama-first", time_budget=0.5))
+    summary = run(
+        scenario, trace, Settings(world="symbolic", rates=EXACT, planner="lama-first", time_budget=0.5)
+    )
     assert not summary["success"] and summary["delivered"] == 0
     assert summary["reason"] == "gave up on toy-1, the rest tidied; the world has 1 items left"
     given = [e for e in map(json.loads, open(trace, encoding="utf-8")) if e["kind"] == "give_up"]

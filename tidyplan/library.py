@@ -12,13 +12,13 @@ line prints; a mission that fails is a summary with ``success`` False, not an ex
 
 from __future__ import annotations
 
-import math
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
-from tidyplan.errors import InputError, PlannerError
-from tidyplan.planning.engines import MISSION_PATIENCE
-from tidyplan.worlds.registry import WORLDS
+from tidyplan.errors import InputError
+from tidyplan.loop.options import DEFAULTS, OptionError, Settings, cli_spelling
+from tidyplan.loop.scenarios import DEFAULT_SCENARIO, DOMAIN, load_scenario
+from tidyplan.worlds.rates import Rates
 
 
 @dataclass(frozen=True, slots=True)
@@ -61,85 +61,60 @@ class Summary:
 
 
 def run(
-    scenario="case3",
+    scenario=DEFAULT_SCENARIO,
     *,
-    world: str = "pybullet",
-    seed: int = 0,
-    strategy: str = "ofsm",
-    planner: str | None = None,
+    world: str = DEFAULTS.world,
+    seed: int = DEFAULTS.seed,
+    strategy: str = DEFAULTS.strategy,
+    planner: str = DEFAULTS.planner,
     faults: str = "",
-    time_budget: float = 1.0,
-    patience: float = MISSION_PATIENCE,
-    first_plan_limit: float = 60.0,
-    min_probability: float = 1e-4,
-    max_recovery: int = 3,
-    time_limit: float = 900.0,
+    time_budget: float = DEFAULTS.time_budget,
+    patience: float = DEFAULTS.patience,
+    first_plan_limit: float = DEFAULTS.first_plan_limit,
+    min_probability: float = DEFAULTS.min_probability,
+    max_recovery: int = DEFAULTS.max_recovery,
+    time_limit: float = DEFAULTS.time_limit,
     domain: str | Path | None = None,
     trace: str | Path | None = None,
-    gui: bool = False,
+    gui: bool = DEFAULTS.gui,
     on_event=None,
     options: str = "keywords",
 ) -> Summary:
     """Run one mission and return its ``Summary``. The options are ``tidyplan run``'s, with the
-    same defaults; ``faults`` as ``--faults`` takes them ("grasp_drop=0.2,..."); ``on_event`` is
-    called with each trace event as it happens. ``domain``: a domain file in the dialect (by
-    default the shipped ``domains/tidy.pddl``), read and checked before the world starts: the
-    dialect, each action bound to units the worlds offer, the words the problems are written in
-    (``tidyplan check DOMAIN`` prints the same). ``options="cli"`` names the options in messages
-    as the command line spells them (``--max-recovery``)."""
+    same defaults (``tidyplan.loop.options``); ``faults`` as ``--faults`` takes them
+    ("grasp_drop=0.2,..."); ``on_event`` is called with each trace event as it happens.
+    ``domain``: a domain file in the dialect (by default the shipped ``domains/tidy.pddl``), read
+    and checked before the world starts: the dialect, each action bound to units the worlds
+    offer, the words the problems are written in (``tidyplan check DOMAIN`` prints the same).
+    ``options="cli"`` names the options in messages as the command line spells them
+    (``--max-recovery``)."""
     from sim.scenario.model import Scenario
-    from tidyplan.cli.run import _scenario, parse_faults
-    from tidyplan.loop.mission import DOMAIN, Settings, project_file
     from tidyplan.loop.mission import run as run_mission
-    from tidyplan.planning.engines import MISSION_ENGINE, check_name
-    from tidyplan.planning.strata import STRATEGIES
 
-    def name(key: str) -> str:
-        return "--" + key.replace("_", "-") if options == "cli" else key
-
-    if world not in WORLDS:
-        raise InputError(f"{name('world')}: {world!r} is not one of {', '.join(WORLDS)}")
-    if strategy not in STRATEGIES:
-        raise InputError(f"{name('strategy')}: {strategy!r} is not one of {', '.join(STRATEGIES)}")
-    if gui and world != "pybullet":
-        raise InputError(f"{name('gui')}: only the pybullet world has a window")
-    for key, value in (
-        ("time_budget", time_budget),
-        ("first_plan_limit", first_plan_limit),
-        ("time_limit", time_limit),
-    ):
-        if not value > 0:
-            raise InputError(f"{name(key)}: {value} is not a positive number of seconds")
-    if max_recovery < 0:
-        raise InputError(f"{name('max_recovery')}: {max_recovery} is negative")
-    if not 0 <= patience < math.inf:  # 0: improve for the whole time budget
-        raise InputError(f"{name('patience')}: {patience} is not a number of seconds >= 0")
-    if not isinstance(scenario, Scenario):
-        shipped = project_file(f"problems/{scenario}.toml") if "/" not in str(scenario) else None
-        scenario = _scenario(shipped if shipped is not None and shipped.exists() else scenario)
-    planner = planner or MISSION_ENGINE
+    spell = cli_spelling if options == "cli" else str
     try:
-        check_name(planner)
-    except PlannerError as err:
-        raise InputError(f"{name('planner')}: {err}") from None
+        settings = Settings(
+            strategy,
+            seed,
+            planner=planner,
+            time_budget=time_budget,
+            patience=patience,
+            first_plan_limit=first_plan_limit,
+            min_probability=min_probability,
+            rates=Rates.parse(faults, spell("faults")),
+            max_recovery=max_recovery,
+            world=world,
+            gui=gui,
+            time_limit=time_limit,
+        )
+    except OptionError as err:
+        raise err.spelled(spell) from None
+    if not isinstance(scenario, Scenario):
+        scenario = load_scenario(scenario)
     domain_file = Path(domain) if domain is not None else DOMAIN
     _check_domain(domain_file, scenario)
     if trace is not None and (Path(trace).exists() or Path(trace).with_suffix(".pddl").exists()):
-        raise InputError(f"{trace}: exists; a trace is never overwritten (choose another {name('trace')})")
-    settings = Settings(
-        strategy,
-        seed,
-        planner=planner,
-        time_budget=time_budget,
-        patience=patience or None,
-        first_plan_limit=first_plan_limit,
-        min_probability=min_probability,
-        rates=parse_faults(faults),
-        max_recovery=max_recovery,
-        world=world,
-        gui=gui,
-        time_limit=time_limit,
-    )
+        raise InputError(f"{trace}: exists; a trace is never overwritten (choose another {spell('trace')})")
     return Summary.from_dict(run_mission(scenario, trace, settings, domain_file, on_event=on_event))
 
 

@@ -13,32 +13,19 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from tidyplan.errors import Diagnostic, InputError
-from tidyplan.planning.engines import MISSION_ENGINE, MISSION_PATIENCE
-from tidyplan.planning.strata import (
-    STRATEGIES,  # not the loop: `tidyplan check` must not load the planner stack
-)
+from tidyplan.loop.options import DEFAULTS  # plain values: `tidyplan check` loads no planner stack
+from tidyplan.loop.scenarios import DEFAULT_SCENARIO, load_scenario, project_file
+from tidyplan.planning.strata import STRATEGIES
 from tidyplan.trace.read import delivers
+from tidyplan.worlds.rates import FAULTS
 from tidyplan.worlds.registry import WORLDS
 
-DEFAULT_SCENARIO = "problems/case3.toml"
 CASES = {"I": "case1.toml", "II": "case2.toml", "III": "case3.toml"}
 # Yan et al., Table II: uses of P1, P2, P3 and total actions per case (O-FSM scenario planning)
 TABLE2 = {"I": (12, 0, 0, 36), "II": (10, 1, 1, 45), "III": (11, 0, 1, 52)}
 # Yan et al., Table III: simulation time (s) and distance (m) per case; greedy fails II and III
 TABLE3 = {"I": (661, 56.87), "II": (822, 80.69), "III": (919, 91.36)}
 TABLE3_GREEDY = {"I": (661, 56.87), "II": None, "III": None}
-# Faults the world injects, as rates; the execution monitor recovers from them.
-FAULTS = {
-    "grasp_fail": "a grasp closes on nothing (take_object; default 0.05)",
-    "grasp_drop": "the item in the hand falls near the robot while it drives (per motion; default 0)",
-    "place_fail": "a placement fails, the item stays in the hand (deliver_it, drop_object; default 0.02)",
-    "path_blocked": "a transient obstacle stops a motion on its way (per motion; default 0)",
-    "perception_miss": "a visible object is not detected (false negative)",
-    "perception_false": "a look reports an object that is not there (false positive)",
-    "handle_slip": "the handle slips out of the hand part-way through a pull (open_drawer; default 0.05)",
-    "drawer_jam": "a drawer sticks part-way out until pushed back closed (per pull; default 0)",
-}
 
 
 def add_parsers(sub, positive) -> None:
@@ -51,17 +38,17 @@ def add_parsers(sub, positive) -> None:
     r.add_argument(
         "--world",
         choices=tuple(WORLDS),
-        default="pybullet",
+        default=DEFAULTS.world,
         help="pybullet (default): the HSR in the physics world, headless unless --gui; "
         "symbolic: the fast world with a hidden truth",
     )
     r.add_argument(
         "--strategy",
         choices=sorted(STRATEGIES),
-        default="ofsm",
+        default=DEFAULTS.strategy,
         help="ofsm: strata P1, P2, P3; greedy: P1 only",
     )
-    r.add_argument("--seed", type=int, default=0)
+    r.add_argument("--seed", type=int, default=DEFAULTS.seed)
     r.add_argument(
         "--domain",
         metavar="FILE",
@@ -70,7 +57,7 @@ def add_parsers(sub, positive) -> None:
     )
     r.add_argument(
         "--planner",
-        default=None,
+        default=DEFAULTS.planner,
         help="engine: lama (default, anytime), lama-optimal (LAMA beside a cost-optimal search), "
         "lama-first or optimal (deterministic), or any unified-planning engine name",
     )
@@ -79,48 +66,51 @@ def add_parsers(sub, positive) -> None:
     r.add_argument(
         "--time-budget",
         type=positive,
-        default=1.0,
+        default=DEFAULTS.time_budget,
         metavar="SECONDS",
-        help="seconds the anytime planner improves each (re)plan's first plan, at most (default 1.0)",
+        help="seconds the anytime planner improves each (re)plan's first plan, at most "
+        f"(default {DEFAULTS.time_budget:g})",
     )
     r.add_argument(
         "--patience",
         type=_seconds,
-        default=MISSION_PATIENCE,
+        default=DEFAULTS.patience,
         metavar="SECONDS",
         help="end the improvement once no cheaper plan came for this long "
-        f"(default {MISSION_PATIENCE:g}; 0: improve for the whole budget; docs/planner.md)",
+        f"(default {DEFAULTS.patience:g}; 0: improve for the whole budget; docs/planner.md)",
     )
     r.add_argument(
         "--first-plan-limit",
         type=positive,
-        default=60.0,
+        default=DEFAULTS.first_plan_limit,
         metavar="SECONDS",
         help="seconds to find a first plan, per (re)plan; past it the replan is 'not found in time' "
-        "(default 60)",
+        f"(default {DEFAULTS.first_plan_limit:g})",
     )
     r.add_argument(
         "--min-probability",
         type=positive,
-        default=1e-4,
+        default=DEFAULTS.min_probability,
         metavar="P",
         help="adopt a plan only when what it commits to next (its steps up to the first delivery) "
-        "succeeds with probability P or more; under it the goal is narrowed (default 1e-4)",
+        "succeeds with probability P or more; under it the goal is narrowed "
+        f"(default {DEFAULTS.min_probability:g})",
     )
     r.add_argument(
         "--max-recovery",
         type=int,
-        default=3,
+        default=DEFAULTS.max_recovery,
         metavar="N",
-        help="recovery iterations for one failing behaviour unit before the planner replans (default 3)",
+        help="recovery iterations for one failing behaviour unit before the planner replans "
+        f"(default {DEFAULTS.max_recovery})",
     )
     r.add_argument(
         "--time-limit",
         type=positive,
-        default=900.0,
+        default=DEFAULTS.time_limit,
         metavar="SECONDS",
-        help="simulated seconds the WRS referee allows, for the score (default 900: the rulebook's "
-        "15 minutes); the mission itself runs on",
+        help="simulated seconds the WRS referee allows, for the score "
+        f"(default {DEFAULTS.time_limit:g}: the rulebook's 15 minutes); the mission itself runs on",
     )
     r.add_argument("--gui", action="store_true", help="open the pybullet window (pybullet world only)")
     r.add_argument("--json", action="store_true", help="print the summary as one JSON object, last")
@@ -132,8 +122,8 @@ def add_parsers(sub, positive) -> None:
         choices=("table2", "table3"),
         help="table2: plan uses per case (symbolic world); table3: time and distance (pybullet)",
     )
-    rp.add_argument("--seed", type=int, default=0)
-    rp.add_argument("--time-budget", type=positive, default=1.0, metavar="SECONDS")
+    rp.add_argument("--seed", type=int, default=DEFAULTS.seed)
+    rp.add_argument("--time-budget", type=positive, default=DEFAULTS.time_budget, metavar="SECONDS")
     rp.add_argument("--out", default="runs", metavar="DIR", help="folder for the traces (default runs/)")
     rp.add_argument("--json", action="store_true")
 
@@ -149,59 +139,6 @@ def _seconds(text: str) -> float:
     return value
 
 
-def parse_faults(text: str):
-    """The world's fault rates (a ``tidyplan.worlds.base.Rates``) from ``--faults``."""
-    from tidyplan.worlds.base import Rates  # numpy, networkx: not for `tidyplan check`
-
-    rates: dict[str, float] = {}
-    for part in filter(None, (p.strip() for p in text.split(","))):
-        key, sep, value = part.partition("=")
-        if not sep:
-            raise InputError(f"--faults: {part!r} is not NAME=RATE")
-        if key not in FAULTS:
-            raise InputError(f"--faults: unknown fault {key!r}; known: {', '.join(FAULTS)}")
-        try:
-            rate = float(value)
-        except ValueError:
-            raise InputError(f"--faults: {key}={value!r}: the rate is not a number") from None
-        if not 0.0 <= rate <= 1.0:
-            raise InputError(f"--faults: {key}={value}: the rate must be in [0, 1]")
-        rates[key] = rate
-    return Rates(
-        take=1.0 - rates.get("grasp_fail", 0.05),
-        deliver=1.0 - rates.get("place_fail", 0.02),
-        drop=1.0 - rates.get("place_fail", 0.02),
-        false_negative=rates.get("perception_miss"),
-        false_positive=rates.get("perception_false"),
-        grasp_drop=rates.get("grasp_drop", 0.0),
-        path_blocked=rates.get("path_blocked", 0.0),
-        handle_slip=rates.get("handle_slip", 0.05),
-        drawer_jam=rates.get("drawer_jam", 0.0),
-    )
-
-
-def _scenario(path: str | Path):
-    from sim.scenario.model import ScenarioError
-    from sim.scenario.read import load
-
-    try:
-        return load(path)
-    except ScenarioError as e:
-        raise InputError([Diagnostic(m, None, None, "") for m in e.messages]) from None
-
-
-def scenario_path(text: str) -> Path:
-    """A scenario file, or the name of a shipped one (``case1``, ``wrs-drawer``: ``problems/<name>.toml``)
-    where no file of that name is here."""
-    from tidyplan.loop.mission import project_file
-
-    path = Path(text)
-    if not path.exists() and "/" not in text:
-        shipped = project_file(f"problems/{text.removesuffix('.toml')}.toml")
-        path = shipped if shipped.exists() else path
-    return path
-
-
 def _trace_path(folder: Path, stem: str) -> Path:
     """A fresh file name: runs are never overwritten. The folder is made with the trace (not
     here: input refused before the mission must leave nothing behind)."""
@@ -214,10 +151,9 @@ def _trace_path(folder: Path, stem: str) -> Path:
 
 
 def cmd_run(args) -> int:
-    from tidyplan.library import run
-    from tidyplan.loop.mission import project_file  # the planner stack loads only when needed
+    from tidyplan.library import run  # the planner stack loads only when needed
 
-    scenario = _scenario(scenario_path(args.scenario) if args.scenario else project_file(DEFAULT_SCENARIO))
+    scenario = load_scenario(args.scenario or DEFAULT_SCENARIO)
     trace = (
         Path(args.trace)
         if args.trace
@@ -301,14 +237,13 @@ def _print_summary(s: dict) -> None:
 
 
 def cmd_reproduce(args) -> int:
-    from tidyplan.loop.mission import project_file
     from tidyplan.sweep.grid import grid, run_sweep
 
     world = "pybullet" if args.table == "table3" else "symbolic"
     files = {case: str(project_file(f"problems/{file}")) for case, file in CASES.items()}
     for path in files.values():
-        _scenario(path)  # one message for a scenario that does not load
-    configs = grid(list(files.values()), [args.seed], ["ofsm", "greedy"], [""], [MISSION_ENGINE], world)
+        load_scenario(path)  # one message for a scenario that does not load
+    configs = grid(list(files.values()), [args.seed], ["ofsm", "greedy"], [""], [DEFAULTS.planner], world)
     configs = [replace(c, time_budget=args.time_budget) for c in configs]
     case_of = {str(Path(f).resolve()): case for case, f in files.items()}
 

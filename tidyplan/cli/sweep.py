@@ -1,6 +1,6 @@
 """`tidyplan sweep`: a grid of missions on this machine's cores or on Ray, one resumable table,
-a summary by condition (docs/sweep.md). The grid and table are in sweep.py, the engines in
-sweep_run.py, the summary in sweep_report.py."""
+a summary by condition (docs/sweep.md). The grid and table are in ``tidyplan.sweep.grid``, the
+engines in ``tidyplan.sweep.missions``, the summary in ``tidyplan.sweep.report``."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import sys
 from pathlib import Path
 
 from tidyplan.errors import InputError
-from tidyplan.planning.engines import MISSION_ENGINE, MISSION_PATIENCE
-from tidyplan.planning.strata import STRATEGIES
+from tidyplan.loop.options import DEFAULTS, OptionError, cli_spelling
+from tidyplan.loop.scenarios import load_scenario, scenario_path
 from tidyplan.worlds.registry import WORLDS
 
 
@@ -22,7 +22,12 @@ def add_parser(sub, positive) -> None:
     )
     s.add_argument("scenarios", nargs="*", metavar="SCENARIO", help="scenario files (or case1, case2, ...)")
     s.add_argument("--seeds", metavar="A-B", help="seeds, A-B inclusive (or N, or a comma list)")
-    s.add_argument("--strategy", default="ofsm", metavar="NAME,...", help="ofsm, greedy (default ofsm)")
+    s.add_argument(
+        "--strategy",
+        default=DEFAULTS.strategy,
+        metavar="NAME,...",
+        help=f"ofsm, greedy (default {DEFAULTS.strategy})",
+    )
     s.add_argument(
         "--faults",
         default="",
@@ -30,23 +35,26 @@ def add_parser(sub, positive) -> None:
         help="fault conditions, ';' between them (tidyplan run's --faults each; '' or none: the baseline)",
     )
     s.add_argument(
-        "--planner", default=MISSION_ENGINE, metavar="NAME,...", help=f"planners (default {MISSION_ENGINE})"
+        "--planner",
+        default=DEFAULTS.planner,
+        metavar="NAME,...",
+        help=f"planners (default {DEFAULTS.planner})",
     )
-    s.add_argument("--world", choices=tuple(WORLDS), default="pybullet")
+    s.add_argument("--world", choices=tuple(WORLDS), default=DEFAULTS.world)
     s.add_argument(
         "--time-limit",
         type=positive,
-        default=900.0,
+        default=DEFAULTS.time_limit,
         metavar="SECONDS",
-        help="simulated seconds the WRS referee allows, for the score (default 900)",
+        help=f"simulated seconds the WRS referee allows, for the score (default {DEFAULTS.time_limit:g})",
     )
-    s.add_argument("--time-budget", type=positive, default=1.0, metavar="SECONDS")
+    s.add_argument("--time-budget", type=positive, default=DEFAULTS.time_budget, metavar="SECONDS")
     s.add_argument(
         "--patience",
         type=float,
-        default=MISSION_PATIENCE,
+        default=DEFAULTS.patience,
         metavar="SECONDS",
-        help=f"tidyplan run's --patience (default {MISSION_PATIENCE:g}; 0: the whole budget)",
+        help=f"tidyplan run's --patience (default {DEFAULTS.patience:g}; 0: the whole budget)",
     )
     s.add_argument(
         "--mission-limit",
@@ -77,16 +85,11 @@ def add_parser(sub, positive) -> None:
 
 
 def _scenario_file(text: str) -> str:
-    from tidyplan.cli.run import _scenario, scenario_path
-
-    path = scenario_path(text)
-    _scenario(path)  # InputError, with the file's messages, if it does not load
-    return str(path.resolve())
+    load_scenario(text)  # InputError, with the file's messages, if it does not load
+    return str(scenario_path(text).resolve())
 
 
 def configs_from(args) -> list:
-    from tidyplan.errors import PlannerError
-    from tidyplan.planning.engines import check_name
     from tidyplan.sweep.grid import canonical_faults, grid, parse_seeds
 
     if not args.scenarios:
@@ -97,20 +100,10 @@ def configs_from(args) -> list:
         raise InputError("--out: required (the table's folder)")
     if args.jobs < 1:
         raise InputError(f"--jobs: {args.jobs} is not at least 1")
-    if not 0 <= args.patience < float("inf"):
-        raise InputError(f"--patience: {args.patience} is not a number of seconds >= 0")
     strategies = _names(args.strategy, "--strategy")
-    for s in strategies:
-        if s not in STRATEGIES:
-            raise InputError(f"--strategy: {s!r} is not one of {', '.join(sorted(STRATEGIES))}")
     planners = _names(args.planner, "--planner")
-    for p in planners:
-        try:
-            check_name(p)
-        except PlannerError as e:
-            raise InputError(f"--planner: {e}") from None
     faults = list(dict.fromkeys(canonical_faults(f) for f in args.faults.split(";")))
-    return grid(
+    configs = grid(
         [_scenario_file(s) for s in args.scenarios],
         parse_seeds(args.seeds),
         strategies,
@@ -121,6 +114,15 @@ def configs_from(args) -> list:
         time_budget=args.time_budget,
         patience=args.patience,
     )
+    checked = set()
+    for config in configs:  # each condition's options checked once, as a mission would
+        if config.condition not in checked:
+            checked.add(config.condition)
+            try:
+                config.settings()
+            except OptionError as err:
+                raise err.spelled(cli_spelling) from None
+    return configs
 
 
 def _names(text: str, option: str) -> list[str]:

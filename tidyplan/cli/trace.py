@@ -109,16 +109,10 @@ def _html(trace: Trace, out: str, scenario_file: str | None, force: bool) -> Non
 
 
 def _scenario(scenario_file: str | None):
-    """The scenario ``--scenario`` names, or None (the trace's own is used)."""
-    if not scenario_file:
-        return None
-    from sim.scenario.model import ScenarioError
-    from sim.scenario.read import load
+    """The scenario ``--scenario`` names (a file, or a shipped one's name), or None (the trace's own)."""
+    from tidyplan.loop.scenarios import load_scenario
 
-    try:
-        return load(scenario_file)
-    except ScenarioError as e:
-        raise InputError([Diagnostic(m, None, None, "") for m in e.messages]) from None
+    return load_scenario(scenario_file) if scenario_file else None
 
 
 def _console() -> Console:

@@ -1,6 +1,6 @@
 """Checks that a domain can be run, before anything runs: each executable action bound to units of
 the catalogue (``tidyplan.exec.catalogue``) with arguments of the right kind, and the words the
-worlds' problems are written in (``tidyplan.belief.problem.VOCABULARY``) declared as the writer uses them.
+worlds' problems are written in (``tidyplan.belief.vocabulary``) declared as the writer uses them.
 
 ``tidyplan check DOMAIN`` prints these diagnostics beside the dialect's own; ``tidyplan run
 --domain FILE`` refuses a domain with any error among them, exit 2, before a world is made. A
@@ -10,7 +10,7 @@ its summary line, ``run`` refuses it.
 
 from __future__ import annotations
 
-from tidyplan.belief.problem import GOAL, VOCABULARY, VOCABULARY_FUNCTIONS, VOCABULARY_TYPES
+from tidyplan.belief.vocabulary import GOAL, VOCABULARY, VOCABULARY_FUNCTIONS, VOCABULARY_TYPES
 from tidyplan.errors import Diagnostic
 from tidyplan.exec.catalogue import UNITS, UnitSpec
 from tidyplan.pddl import model as m
@@ -132,15 +132,11 @@ def check_facts(domain: m.Domain, scenario) -> list[Diagnostic]:
 
 
 def offered() -> list[tuple[UnitSpec, list[str]]]:
-    """Each catalogue unit with the worlds that have every skill it calls."""
-    from tidyplan.worlds.registry import WORLDS, quiet_import, world_class
+    """Each catalogue unit with the worlds that offer every skill it calls (as the registry
+    declares them: no world is loaded)."""
+    from tidyplan.worlds.registry import WORLDS
 
-    with quiet_import():
-        classes = {name: world_class(name) for name in WORLDS}
-    return [
-        (spec, [n for n, c in classes.items() if all(hasattr(c, skill) for skill in spec.skills)])
-        for spec in UNITS.values()
-    ]
+    return [(spec, [n for n, w in WORLDS.items() if set(spec.skills) <= w.skills]) for spec in UNITS.values()]
 
 
 def _ancestors(domain: m.Domain) -> dict[str, set[str]]:

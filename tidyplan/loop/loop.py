@@ -28,10 +28,12 @@ import os
 from collections import Counter
 from dataclasses import dataclass
 
-from tidyplan.belief.problem import VOCABULARY, Snapshot, write
+from tidyplan.belief.problem import Snapshot, write
 from tidyplan.belief.state import Belief
+from tidyplan.belief.vocabulary import VOCABULARY
 from tidyplan.loop.counting import Counters
 from tidyplan.loop.looking import go_and_look, inspect
+from tidyplan.loop.options import DEFAULTS
 from tidyplan.loop.replanning import Planning
 from tidyplan.loop.triggers import Cause, bind, check_assumptions
 from tidyplan.pddl import model as m
@@ -47,9 +49,9 @@ LOOKS_BEFORE_GIVING_UP = 3  # as many as the belief needs to forget an item that
 
 @dataclass(frozen=True, slots=True)
 class LoopConfig:
-    strategy: str = "ofsm"
+    strategy: str = DEFAULTS.strategy
     # a plan is adopted only when its commitment (tidyplan.planning.commitment) is at least this likely
-    min_probability: float = 1e-4
+    min_probability: float = DEFAULTS.min_probability
     # O-FSM's halting criterion: a cap on the actions performed, this many for each item the
     # robot knows of (told by the prior, or seen), and never fewer than 300 (12 items' worth): a
     # fixed 300 stopped a 96-object room at 70 tidied, each delivery taking four actions
@@ -60,7 +62,8 @@ class LoopConfig:
     # time replanned and tried again, will not go (the world has a reason the belief lacks).
     # The item it acts on is given up and the rest tidied; an action on no item ends the mission.
     max_same_failure: int = 5
-    time_limit_s: float = 900.0  # the WRS referee's, for readers (tidyplan.trace.score); the loop runs on
+    # the WRS referee's, for readers (tidyplan.trace.score); the loop runs on past it
+    time_limit_s: float = DEFAULTS.time_limit
 
 
 @dataclass(slots=True)

@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
-from importlib.resources import files
 from pathlib import Path
 
 from sim.scenario.model import Scenario
@@ -18,55 +16,21 @@ from tidyplan.belief.geometry import RoomMap
 from tidyplan.belief.state import Belief
 from tidyplan.exec.bindings import MonitoredExecutor
 from tidyplan.loop.loop import LoopConfig, Mission
+from tidyplan.loop.options import DEFAULTS, Settings
+from tidyplan.loop.scenarios import DOMAIN
 from tidyplan.monitor.recovery import RecoveryConfig
-from tidyplan.planning.engines import MISSION_ENGINE, MISSION_PATIENCE
 from tidyplan.planning.grounding import Grounder
-from tidyplan.planning.planner import DEFAULT_FIRST_PLAN_LIMIT, PlanResult, Status, plan
-from tidyplan.trace.score import TIME_LIMIT_S, WrsTally
+from tidyplan.planning.planner import PlanResult, Status, plan
+from tidyplan.trace.score import WrsTally
 from tidyplan.trace.writer import NoTrace, TraceWriter
-from tidyplan.worlds.base import Rates
 from tidyplan.worlds.contract import World
-from tidyplan.worlds.registry import WORLDS, world_class
-
-
-def project_file(relative: str) -> Path:
-    """A file the project ships (``domains/NAME``, ``problems/NAME``): from the package, which
-    carries both folders as ``tidyplan.domains`` and ``tidyplan.problems`` (pyproject.toml), or
-    from beside the package where a clone runs without being installed."""
-    folder, _, name = relative.partition("/")
-    try:
-        shipped = Path(str(files(f"tidyplan.{folder}") / name))
-    except ModuleNotFoundError:
-        shipped = None
-    if shipped is not None and shipped.exists():
-        return shipped
-    return Path(__file__).resolve().parents[2] / relative
-
-
-DOMAIN = project_file("domains/tidy.pddl")
-
-
-@dataclass(frozen=True, slots=True)
-class Settings:
-    strategy: str = "ofsm"
-    seed: int = 0
-    planner: str = MISSION_ENGINE
-    time_budget: float = 1.0  # seconds LAMA improves each first plan, at most
-    # ... ending once no cheaper plan came for so long (None: never; docs/planner.md)
-    patience: float | None = MISSION_PATIENCE
-    first_plan_limit: float = DEFAULT_FIRST_PLAN_LIMIT  # seconds to find it
-    min_probability: float = 1e-4
-    rates: Rates = Rates()
-    max_recovery: int = 3  # recovery iterations per failing unit before the planner reworks the task
-    world: str = "symbolic"  # or "pybullet"
-    gui: bool = False  # pybullet only: open the window and follow the robot
-    time_limit: float = TIME_LIMIT_S  # simulated seconds the WRS referee allows (the score only)
+from tidyplan.worlds.registry import world_class
 
 
 def run(
     scenario: Scenario | str | Path,
     trace_path: str | Path | None,
-    settings: Settings = Settings(),
+    settings: Settings = DEFAULTS,
     domain: str | Path = DOMAIN,
     on_event=None,
 ) -> dict:
@@ -86,8 +50,6 @@ def run(
 
 def make_world(scenario: Scenario, room: RoomMap, settings: Settings) -> World:
     """The world ``settings.world`` names (``tidyplan.worlds.registry``), made for this mission."""
-    if settings.world not in WORLDS:
-        raise ValueError(f"unknown world {settings.world!r}")
     return world_class(settings.world).for_mission(scenario, room, settings)
 
 
@@ -140,7 +102,7 @@ def mission_plan(domain, problem, settings: Settings, max_stratum, grounder=None
         first_plan_limit=settings.first_plan_limit,
         grounder=grounder,
         reduce_moves=False,
-        patience=settings.patience,
+        patience=settings.improvement_patience,
     )
     result = plan(*args, escalate_unproven=False, **kwargs)
     if result.status is Status.UNKNOWN:

@@ -83,6 +83,8 @@ MISSION_ENGINE = "lama"
 # problems of missions (bench/patience.py) 35 plans were as good as with the whole 1 s and the
 # worst was 3.1% dearer, in a median 0.60 s instead of 1.10 s; 0.25 s lost on 4 of 36.
 MISSION_PATIENCE = 0.5
+DEFAULT_TIME_BUDGET = 1.0  # seconds an anytime engine improves its first plan
+DEFAULT_FIRST_PLAN_LIMIT = 60.0  # seconds to find a first plan, for the whole call
 
 
 def engine_names() -> list[str]:

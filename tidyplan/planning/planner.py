@@ -28,11 +28,15 @@ from tidyplan.pddl.compile import CompiledTask, compile_task
 from tidyplan.pddl.criterion import Score, score
 from tidyplan.pddl.writer import domain_text, problem_text
 from tidyplan.planning import fastdownward, grounding, moves
-from tidyplan.planning.engines import DEFAULT_ENGINE, ENGINES, Engine, run
+from tidyplan.planning.engines import (
+    DEFAULT_ENGINE,
+    DEFAULT_FIRST_PLAN_LIMIT,
+    DEFAULT_TIME_BUDGET,
+    ENGINES,
+    Engine,
+    run,
+)
 from tidyplan.planning.strata import Attempt, Outcome, plan_by_strata
-
-DEFAULT_TIME_BUDGET = 1.0  # seconds an anytime engine improves its first plan
-DEFAULT_FIRST_PLAN_LIMIT = 60.0  # seconds to find a first plan, for the whole call
 
 
 class Status(Enum):

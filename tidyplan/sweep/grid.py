@@ -4,8 +4,8 @@ A mission's configuration (``MissionConfig``) is the row's key: running the same
 skips every configuration the table already has. The table is ``DIR/results.jsonl``, one row a
 line, appended (flushed and synced) as each mission ends, so a killed sweep loses at most the
 missions then running; ``DIR/results.csv`` is rewritten from it (temp file, rename) each time.
-The engines that run the missions are in ``sweep_run.py``; the summary by condition in
-``sweep_report.py``.
+The engines that run the missions are in ``missions.py``; the summary by condition in
+``report.py``.
 """
 
 from __future__ import annotations
@@ -21,7 +21,8 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
 from tidyplan.errors import InputError
-from tidyplan.planning.engines import MISSION_ENGINE, MISSION_PATIENCE
+from tidyplan.loop.options import DEFAULTS, Settings
+from tidyplan.worlds.rates import Rates
 
 RESULTS = "results.jsonl"
 RESULTS_CSV = "results.csv"
@@ -34,13 +35,13 @@ class MissionConfig:
 
     scenario_file: str  # absolute path: the same sweep run from another folder finds its rows
     seed: int
-    strategy: str = "ofsm"
+    strategy: str = DEFAULTS.strategy
     faults: str = ""  # canonical ``K=V,...`` (sorted); "" for the world's baseline
-    planner: str = MISSION_ENGINE
-    world: str = "pybullet"
-    time_limit: float = 900.0  # simulated seconds the WRS referee allows (the score)
-    time_budget: float = 1.0
-    patience: float = MISSION_PATIENCE  # 0: improve for the whole time budget
+    planner: str = DEFAULTS.planner
+    world: str = DEFAULTS.world
+    time_limit: float = DEFAULTS.time_limit  # simulated seconds the WRS referee allows (the score)
+    time_budget: float = DEFAULTS.time_budget
+    patience: float = DEFAULTS.patience  # 0: improve for the whole time budget
 
     @property
     def key(self) -> str:
@@ -50,6 +51,19 @@ class MissionConfig:
     def condition(self) -> tuple:
         """Everything but the seed: the missions a summary line pools."""
         return tuple(getattr(self, f.name) for f in fields(self) if f.name != "seed")
+
+    def settings(self) -> Settings:
+        """The mission's options record, checked (an ``OptionError`` names a bad field)."""
+        return Settings(
+            self.strategy,
+            self.seed,
+            planner=self.planner,
+            time_budget=self.time_budget,
+            patience=self.patience,
+            rates=Rates.parse(self.faults),
+            world=self.world,
+            time_limit=self.time_limit,
+        )
 
     @classmethod
     def from_row(cls, row: dict) -> MissionConfig:
@@ -83,11 +97,9 @@ def parse_seeds(text: str) -> list[int]:
 
 
 def canonical_faults(text: str) -> str:
-    """One fault condition as a key: parts stripped and sorted, checked by ``parse_faults``."""
-    from tidyplan.cli.run import parse_faults
-
+    """One fault condition as a key: parts stripped and sorted, checked by ``Rates.parse``."""
     text = "" if text.strip().lower() == "none" else text
-    parse_faults(text)  # InputError for an unknown fault or a bad rate
+    Rates.parse(text, "--faults")  # InputError for an unknown fault or a bad rate
     return ",".join(sorted(p.strip() for p in text.split(",") if p.strip()))
 
 

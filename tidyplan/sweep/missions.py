@@ -34,21 +34,12 @@ RAY_INSTALL = "pip install '.[ray]'"
 
 
 def mission(config: dict, trace: str) -> dict:
-    """The real mission: ``tidyplan.loop.mission.run`` with the configuration's settings."""
-    from tidyplan.cli.run import parse_faults
-    from tidyplan.loop.mission import Settings, run
+    """The real mission: ``tidyplan.loop.mission.run`` with the configuration's options."""
+    from tidyplan.loop.mission import run
+    from tidyplan.sweep.grid import MissionConfig
 
-    settings = Settings(
-        config["strategy"],
-        config["seed"],
-        planner=config["planner"],
-        time_budget=config["time_budget"],
-        patience=config["patience"] or None,
-        rates=parse_faults(config["faults"]),
-        world=config["world"],
-        time_limit=config["time_limit"],
-    )
-    return run(config["scenario_file"], trace, settings)
+    config = MissionConfig.from_row(config)
+    return run(config.scenario_file, trace, config.settings())
 
 
 # ------------------------------------------------------------------ one mission, in a child

@@ -15,6 +15,7 @@ import statistics
 from pathlib import Path
 
 from tidyplan.errors import InputError
+from tidyplan.loop.options import DEFAULTS
 from tidyplan.sweep.grid import MissionConfig
 
 Z95 = 1.959963984540054
@@ -101,7 +102,7 @@ def conditions(rows: list[dict], by: tuple[str, ...] | None = None) -> list[dict
 
 def label(config: MissionConfig) -> str:
     faults = config.faults or "baseline"
-    extra = "" if config.time_limit == 900.0 else f" limit {config.time_limit:g}s"
+    extra = "" if config.time_limit == DEFAULTS.time_limit else f" limit {config.time_limit:g}s"
     scenario = Path(config.scenario_file).stem
     return f"{scenario} {config.strategy} {config.planner} {faults} {config.world}{extra}"
 

@@ -5,13 +5,12 @@ hidden truth (``WorldReferee``), on the contract every world implements (``tidyp
 The behaviour units (``tidyplan.exec.units``) reach a world only through its skills; a world
 keeps the truth the robot must not see, draws every fault from one seeded generator in a fixed
 order, and answers the referee's questions (what is untidied, where an item really is). Worlds
-are made by name (``tidyplan.loop.mission.WORLDS``): a new one is one class and one entry there.
+are made by name (``tidyplan.worlds.registry``): a new one is one class and one entry there.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -19,6 +18,7 @@ from sim.scenario.model import Scenario
 from tidyplan.belief.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
 from tidyplan.belief.state import Detection
 from tidyplan.worlds.contract import Odometer, Outcome, Referee, Skills, TrueItem, World
+from tidyplan.worlds.rates import Rates
 
 __all__ = ["Odometer", "Outcome", "Rates", "Referee", "Skills", "TrueItem", "World", "WorldReferee"]
 
@@ -28,26 +28,6 @@ LOOK_INTO_S = 2.0  # s: the head tilts to the deposit and the detector runs (as 
 # with the arm held (our figure: a little under the base's careful 0.11 m/s, a drawer steadily)
 PULL_SPEED = 0.1
 JAM_SHARE = (0.3, 0.7)  # of its travel: where a drawer that jams sticks
-
-
-@dataclass(frozen=True, slots=True)
-class Rates:
-    """Success rates of the manipulation actions and the camera's error rates.
-
-    Defaults: the domain's probabilities (take 0.95, deliver 0.98, drop 0.98, a pull of a drawer's
-    handle 0.95) and Goebelbecker's
-    false negative 0.2 and false positive 0.05 (the scenario's [sensing] may set its own); no
-    drops in transit and no transient obstacles unless asked for (``--faults``)."""
-
-    take: float = 0.95
-    deliver: float = 0.98
-    drop: float = 0.98
-    false_negative: float | None = None  # None: the scenario's
-    false_positive: float | None = None
-    grasp_drop: float = 0.0  # per carrying motion: the item falls near the robot
-    path_blocked: float = 0.0  # per motion: a transient obstacle stops the robot on its way
-    handle_slip: float = 0.05  # per pull: the handle slips out of the hand part-way (open_drawer 0.95)
-    drawer_jam: float = 0.0  # per pull: the drawer sticks part-way until pushed back closed
 
 
 class WorldReferee:
