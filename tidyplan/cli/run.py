@@ -16,7 +16,7 @@ from pathlib import Path
 from tidyplan.loop.options import DEFAULTS  # plain values: `tidyplan check` loads no planner stack
 from tidyplan.loop.scenarios import DEFAULT_SCENARIO, load_scenario, project_file
 from tidyplan.planning.strata import STRATEGIES
-from tidyplan.trace.read import delivers
+from tidyplan.trace.events import delivers
 from tidyplan.worlds.rates import FAULTS
 from tidyplan.worlds.registry import WORLDS
 

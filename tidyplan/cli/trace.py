@@ -20,7 +20,8 @@ from rich.text import Text
 
 from tidyplan.errors import Diagnostic, InputError
 from tidyplan.trace.diff import BULK, by_predicate, replan_diff
-from tidyplan.trace.read import CAUSES, Trace, read_trace, summarise
+from tidyplan.trace.events import CAUSES
+from tidyplan.trace.read import Trace, read_trace, summarise
 
 KEPT_SHOWN = 2  # a run of kept steps longer than twice this is shown by its ends
 

@@ -52,11 +52,14 @@ class Report:
     failure_class: str | None = None
     units: tuple[str, ...] = ()  # the units the action ran (counting reads them)
     delivered: str | None = None  # the item its place unit put into a deposit
+    path: list[list[float]] = field(default_factory=list)  # the track driven (Odometer.path_since)
 
 
 class MonitoredExecutor:
-    """Runs each symbolic action as its declared behaviour units under layered recovery
-    (tidyplan.monitor). ``bind`` gives it the domain the mission plans with."""
+    """The loop's one door to the robot: runs each symbolic action as its declared behaviour
+    units under layered recovery (tidyplan.monitor) and reports what it did, the track driven
+    included; takes the looks the loop makes outside any action. ``bind`` gives it the domain
+    the mission plans with. The world's referee is not reached through it."""
 
     def __init__(
         self, world, emit=None, config: RecoveryConfig | None = None, domain: m.Domain | None = None
@@ -79,10 +82,18 @@ class MonitoredExecutor:
             f"(move {belief.robot_wp} {to})", [Navigate(ctx, snapshot.facts.points[to], to)], snapshot
         )
 
+    def look(self) -> list:
+        """A look around from where the robot stands: the detections (``Skills.locate``)."""
+        return self.world.look()
+
+    def look_into(self, deposit: str) -> list:
+        """A close look into a deposit: the detections of what lies in it."""
+        return self.world.look_into(deposit)
+
     def run(self, text: str, units: list[Unit], snapshot: Snapshot) -> Report:
         ctx = units[0].ctx
         clock = self.world.odometer
-        t0, d0 = clock.sim_time_s, clock.distance_m
+        t0, d0, mark = clock.sim_time_s, clock.distance_m, len(clock.track)
 
         def emit(kind, **fields):
             self.emit(kind, action=text, **fields)
@@ -104,6 +115,7 @@ class MonitoredExecutor:
             None if result.ok else result.failure.klass.value,
             tuple(u.name for u in units),
             next((u.item for u in units if isinstance(u, Place)), None) if result.ok else None,
+            clock.path_since(mark),
         )
 
     def units(self, step: Step, snapshot: Snapshot, ctx: Context) -> list[Unit]:

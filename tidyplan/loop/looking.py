@@ -17,39 +17,34 @@ from tidyplan.belief.geometry import deposit_waypoint
 from tidyplan.belief.problem import robot_waypoint
 from tidyplan.belief.state import Belief, Detection
 from tidyplan.planning.planner import Step
-from tidyplan.trace.writer import polyline
+from tidyplan.trace import events
 
 # Close looks into a deposit until every item believed there is seen: an item missed by all five
 # at the false-negative rate 0.2 happens 1 time in 3125
 LOOKS_INTO = 5
 
 
-def move(to: str, purpose: str, belief: Belief, executor, world, snapshot, observe, emit, count):
+def move(to: str, purpose: str, belief: Belief, executor, snapshot, observe, emit, count):
     """A move the loop makes outside any plan (to look into a deposit, or at an item no plan
     reaches), run and traced as an action of its own; returns the executor's report."""
     step = Step("move", (belief.robot_wp, to), False, 1, 1.0, 0.0)
-    since = len(world.odometer.track)
     report = executor.drive(to, snapshot, belief, observe)
     count.action(step, report, belief.holding is not None)
-    emit("action", action=step.text, stratum=None, ok=report.ok, failure=report.failure,
-         failure_class=report.failure_class, recoveries=report.recoveries,
-         recovery_exhausted=report.recovery_exhausted, seconds=round(report.seconds, 2),
-         metres=round(report.metres, 2), robot=[round(v, 3) for v in belief.robot],
-         path=polyline(world.odometer.track[since:]), units=list(report.units), purpose=purpose)  # fmt: skip
+    emit("action", **events.action(step.text, None, report, belief.robot, purpose=purpose))
     return report
 
 
-def inspect(deposit: str, belief: Belief, executor, world, snapshot, observe, emit, count) -> list[str]:
+def inspect(deposit: str, belief: Belief, executor, snapshot, observe, emit, count) -> list[str]:
     """Drive to ``deposit`` (an action of its own in the trace) and look into it up to LOOKS_INTO
     times until each item believed there is seen; returns the items lost (not there)."""
     wp = deposit_waypoint(deposit)
-    report = move(wp, "inspect_deposit", belief, executor, world, snapshot, observe, emit, count)
+    report = move(wp, "inspect_deposit", belief, executor, snapshot, observe, emit, count)
     if not report.ok:
         return []
     believed = Counter(k.category for k in belief.in_deposit(deposit))
     shown: dict[tuple, Detection] = {}  # distinct items over the looks, by category and place
     for _ in range(LOOKS_INTO):
-        for d in world.look_into(deposit):
+        for d in executor.look_into(deposit):
             shown.setdefault((d.category, round(d.x, 2), round(d.y, 2)), d)
         if Counter(c for c, _, _ in shown) >= believed:
             break
@@ -58,7 +53,7 @@ def inspect(deposit: str, belief: Belief, executor, world, snapshot, observe, em
     return lost
 
 
-def go_and_look(belief: Belief, went: Counter, most: int, executor, world, snapshot, observe, emit, count):
+def go_and_look(belief: Belief, went: Counter, most: int, executor, snapshot, observe, emit, count):
     """Drive to the nearest waypoint from which a look should see a believed item (placed, looked
     at fewer than ``most`` times this way, counted in ``went``), and look; False if there is
     none (-> bool). The look is the executor's, after the move."""
@@ -73,6 +68,6 @@ def go_and_look(belief: Belief, went: Counter, most: int, executor, world, snaps
         w = min(views, key=lambda w: (facts.path[(here, w)], w))
         went[k.name] += 1
         emit("look_again", looks_left=0, item=k.name, waypoint=w)
-        move(w, "look_again", belief, executor, world, snapshot, observe, emit, count)
+        move(w, "look_again", belief, executor, snapshot, observe, emit, count)
         return True
     return False

@@ -15,17 +15,20 @@ the trace. It gives up only when no goal is left that has such a plan.
 
 Before it ends, the loop explores again while the prior names items nobody has found (new
 rounds, from closer viewpoints), and looks into every deposit that should hold something: an
-item knocked out is lost to the belief, found and tidied again. The world is asked for nothing
-but the referee's verdict at the end.
+item knocked out is lost to the belief, found and tidied again.
 
-The planner, the executor and the trace writer are passed in; the loop knows the tidy domain
-only through the belief, the problem writer and the executor.
+The planner, the executor, the referee and the trace writer are passed in. The loop reaches the
+robot only through the executor (actions, moves and looks, each reported with its track); the
+referee (``tidyplan.worlds.contract.Referee``) is asked once, for the verdict when the mission
+ends: an ending that depends on it (``Verdict``) is settled there. The loop knows the tidy
+domain only through the belief, the problem writer and the executor.
 """
 
 from __future__ import annotations
 
 import os
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from tidyplan.belief.problem import Snapshot, write
@@ -41,9 +44,12 @@ from tidyplan.pddl.reader import read_domain, read_text
 from tidyplan.pddl.static import changed_predicates
 from tidyplan.planning.planner import Status, Step
 from tidyplan.planning.strata import STRATEGIES
-from tidyplan.trace.writer import polyline
-from tidyplan.worlds.contract import World, referee_view
+from tidyplan.trace import events
+from tidyplan.worlds.contract import Referee, referee_view
 
+# How a mission ends: a reason, or one that needs the referee's verdict (the items the world
+# has left untidied), settled once when the loop ends
+Ending = str | Callable[[list[str]], str]
 LOOKS_BEFORE_GIVING_UP = 3  # as many as the belief needs to forget an item that is not there
 
 
@@ -77,11 +83,11 @@ class Mission(Planning):
     """One run of the loop. ``planner(domain, problem, max_stratum) -> PlanResult``."""
 
     def __init__(
-        self, domain_path, belief: Belief, executor, world: World, planner, trace, config=LoopConfig()
+        self, domain_path, belief: Belief, executor, referee: Referee, planner, trace, config=LoopConfig()
     ):
         self.domain: m.Domain = read_domain(domain_path)
         self.domain_text = read_text(domain_path)
-        self.belief, self.executor, self.world = belief, executor, world
+        self.belief, self.executor, self.referee = belief, executor, referee
         self.planner, self.trace, self.config = planner, trace, config
         self.max_stratum = STRATEGIES[config.strategy]
         self.count = Counters()
@@ -120,19 +126,21 @@ class Mission(Planning):
             robot=list(map(_r, self.belief.robot)),
             time_limit_s=self.config.time_limit_s,
         )
-        self._observe(self.world.look(), "wp-entrance")
-        reason = self._replan(Cause.INITIAL)
-        while reason is None:
-            reason = self._tick()
+        self._observe(self.executor.look(), "wp-entrance")
+        ending = self._replan(Cause.INITIAL)
+        while ending is None:
+            ending = self._tick()
+        # the referee's verdict, the one time the loop asks it: what the world has left untidied
+        reason = ending if isinstance(ending, str) else ending(self.referee.untidied())
         success = reason.startswith("goal reached")
-        escaped = self.world.escaped()
+        escaped = self.referee.escaped()
         if escaped:  # the simulation's fault, not the robot's: reported, never counted as lost
             self.trace.emit("sim_fault", what="objects outside the room", items=escaped)
-        places, wrong = referee_view(self.world)
+        places, wrong = referee_view(self.referee)
         self.trace.emit("end", success=success, reason=reason, items=places, escaped=escaped, misplaced=wrong)
         return Outcome(success, reason, self.count)
 
-    def _tick(self) -> str | None:
+    def _tick(self) -> Ending | None:
         """One turn: consume assumptions, check, execute one action, observe, monitor."""
         while self.steps and self.steps[0].assumption:
             step = self.steps.pop(0)
@@ -145,31 +153,16 @@ class Mission(Planning):
         # No check here: the plan was just made from this belief, or _monitor has checked the
         # rest of it (this step first) against the belief after the last action.
         step = self.steps.pop(0)
-        since = len(self.world.odometer.track)
         before = self._belief_state() if self._remembered else None
         report = self.executor.execute(step, self.snapshot, self.belief, self._observe)
         if report.ok and before is not None:
             self._remember(before, step)
         self.count.action(step, report, self.belief.holding is not None)
-        self.trace.emit(
-            "action",
-            action=step.text,
-            stratum=step.stratum,
-            ok=report.ok,
-            failure=report.failure,
-            failure_class=report.failure_class,
-            recoveries=report.recoveries,
-            recovery_exhausted=report.recovery_exhausted,
-            seconds=round(report.seconds, 2),
-            metres=round(report.metres, 2),
-            robot=list(map(_r, self.belief.robot)),
-            path=polyline(self.world.odometer.track[since:]),
-            units=list(report.units),
-            delivered=report.delivered,
-        )
+        fields = events.action(step.text, step.stratum, report, self.belief.robot, delivered=report.delivered)
+        self.trace.emit("action", **fields)
         return self._monitor(report.new, report, step)
 
-    def _monitor(self, new: list[str], report, step: Step) -> str | None:
+    def _monitor(self, new: list[str], report, step: Step) -> Ending | None:
         unbound = self._bind(new)
         contradicted = self._check_assumptions()
         if contradicted:
@@ -208,7 +201,7 @@ class Mission(Planning):
             self.trace.emit("plan_kept", steps=len(self.steps))
         return None
 
-    def _finished(self, unreachable: bool = False) -> str | None:
+    def _finished(self, unreachable: bool = False) -> Ending | None:
         """The plan ran out, or nothing is left to plan for: explore again while the prior names
         items nobody found, look into the deposits, then ask the referee for its verdict.
         ``unreachable``: no plan reaches the unseen space left, so a new round is the next step."""
@@ -229,25 +222,29 @@ class Mission(Planning):
             if lost or self._open():
                 why = "deposits looked into: " + " ".join(lost or ["new items"])
                 return self._replan(Cause.PLAN_INVALID, why)
-        left = self.world.untidied()  # the referee's verdict, the one question the loop asks it
-        if self.belief.undeliverable:
-            names = " ".join(sorted(self.belief.undeliverable))
-            return f"gave up on {names}, the rest tidied; the world has {len(left)} items left"
-        if left:
-            return f"belief says tidy, the world has {len(left)} items left"
-        return "goal reached" + (f" ({len(unfound)} items of the prior never found)" if unfound else "")
+        undeliverable = " ".join(sorted(self.belief.undeliverable))
+        never_found = f" ({len(unfound)} items of the prior never found)" if unfound else ""
+
+        def verdict(left: list[str]) -> str:
+            if undeliverable:
+                return f"gave up on {undeliverable}, the rest tidied; the world has {len(left)} items left"
+            if left:
+                return f"belief says tidy, the world has {len(left)} items left"
+            return "goal reached" + never_found
+
+        return verdict
 
     def _inspect_deposits(self) -> list[str]:
         """Look into every deposit that should hold items; the items lost (not there)."""
         lost: list[str] = []
         for d in self.belief.scenario.deposits:
             if self.belief.in_deposit(d.name):
-                lost += inspect(d.name, self.belief, self.executor, self.world, self._map_now(),
+                lost += inspect(d.name, self.belief, self.executor, self._map_now(),
                                 self._observe, self.trace.emit, self.count)  # fmt: skip
         return lost
 
     # ------------------------------------------------------------------ planning
-    def _replan(self, cause: Cause, why: str = "") -> str | None:
+    def _replan(self, cause: Cause, why: str = "") -> Ending | None:
         if not self._open() and not (self.belief.virtual() and self.belief.explorable()):
             return self._finished()  # nothing to plan for (the last item a false detection, say)
         if cause is not Cause.INITIAL:
@@ -290,7 +287,7 @@ class Mission(Planning):
             # there (a false detection) is forgotten after a few looks that should have seen it.
             self._looks_left -= 1
             self.trace.emit("look_again", looks_left=self._looks_left)
-            self._observe(self.world.look(), None)
+            self._observe(self.executor.look(), None)
             return self._replan(cause, why)
         if self._go_and_look():
             return self._replan(cause, why)
@@ -300,13 +297,17 @@ class Mission(Planning):
             return f"no plan whose next commitment is likely enough: best {best:.2g} below {threshold:g}"
         if not self._open():  # only unseen items left, and no plan reaches them
             return self._finished(unreachable=True)
-        left = [k.name for k in self._open()] + [v for v, _ in self.belief.virtual()]
-        if not self.world.untidied():  # nothing more can be done: the referee's verdict decides
-            return f"goal reached; no plan for {' '.join(left)}, which the belief still held"
+        held = " ".join([k.name for k in self._open()] + [v for v, _ in self.belief.virtual()])
         # "no plan" where the planner proved it; where a goal was not planned in time
         # (tidyplan.loop.mission.mission_plan), the reason says so: nothing was proven
         timed_out = f" ({out_of_time} goals not planned in time, unproven)" if out_of_time else ""
-        return (f"no plan for {' '.join(left)}" if left else "no plan") + timed_out
+
+        def verdict(left: list[str]) -> str:
+            if not left:  # nothing more could be done: the world has it all tidied
+                return f"goal reached; no plan for {held}, which the belief still held"
+            return (f"no plan for {held}" if held else "no plan") + timed_out
+
+        return verdict
 
     def _map_now(self) -> Snapshot:
         """The belief's map as it is, for a move the loop makes outside any plan."""
@@ -316,7 +317,7 @@ class Mission(Planning):
         """Before giving up on an item no plan reaches, look at it from where it should be seen
         (``looking.go_and_look``), at most LOOKS_BEFORE_GIVING_UP times an item."""
         b, went, most = self.belief, self._went_to_look, LOOKS_BEFORE_GIVING_UP
-        return go_and_look(b, went, most, self.executor, self.world, self._map_now(), self._observe,
+        return go_and_look(b, went, most, self.executor, self._map_now(), self._observe,
                            self.trace.emit, self.count)  # fmt: skip
 
     def _worth_looking(self) -> bool:

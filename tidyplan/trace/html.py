@@ -36,7 +36,8 @@ from sim.scenario.model import Sensing
 from tidyplan.exec import catalogue as cat
 from tidyplan.trace import plot  # its colours, unit rows and unit runs: the PNG's
 from tidyplan.trace.diff import BULK, by_predicate, replan_diff
-from tidyplan.trace.read import CAUSES, Trace, adopted, summarise
+from tidyplan.trace.events import CAUSES
+from tidyplan.trace.read import Trace, adopted, summarise
 
 MOTIONS = frozenset(name for name, spec in cat.UNITS.items() if "follow" in spec.skills)
 # a problem's header (tidyplan/belief/problem.py): waypoints "name kind x y", items "name category state x y"

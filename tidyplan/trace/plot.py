@@ -28,7 +28,8 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Rectangle  # noqa: E402
 
 from tidyplan.exec import catalogue as cat  # noqa: E402
-from tidyplan.trace.read import CAUSES, Trace, adopted, replan_points, summarise, track  # noqa: E402
+from tidyplan.trace.events import CAUSES  # noqa: E402
+from tidyplan.trace.read import Trace, adopted, replan_points, summarise, track  # noqa: E402
 
 # tab10: the path and the plan band; no other mark uses these colours (tests look for them)
 PLAN_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#17becf")

@@ -25,21 +25,9 @@ from pathlib import Path
 from statistics import median
 
 from tidyplan.errors import Diagnostic, InputError
-from tidyplan.exec.catalogue import DELIVERS
-from tidyplan.trace.writer import SCHEMA_VERSION
+from tidyplan.trace.events import KINDS, SCHEMA_VERSION, delivers
+from tidyplan.trace.score import TIME_LIMIT_S, wrs_score
 
-KINDS = frozenset(
-    "start observe plan assume unit recovery action bind assumption plan_kept forget "
-    "explore_again look_again unblock give_up inspect_deposit sim_fault end summary".split()
-)
-# the five replan causes, numbered as in docs/trace.md and the Design (i)..(v)
-CAUSES = {
-    "precondition_failed": "i",
-    "plan_invalid": "ii",
-    "assumption_contradicted": "iii",
-    "recovery_exhausted": "iv",
-    "new_object": "v",
-}
 NO_SUMMARY = "without a summary (the run was stopped before it ended)"
 NUMBER = (int, float)
 WHAT = {NUMBER: "a number", int: "a whole number", str: "a string", list: "a list", bool: "true or false"}
@@ -262,7 +250,6 @@ def _from_events(trace: Trace) -> dict:
     delivered = sum(str(v[0]).startswith("tidied") for v in places.values()) if places else len(tidied)
     checks = trace.of("assumption")
     last = trace.events[-1]
-    from tidyplan.trace.score import TIME_LIMIT_S, wrs_score  # it reads `delivers` from here
 
     limit = start.get("time_limit_s", TIME_LIMIT_S)
     return {
@@ -340,17 +327,6 @@ def _recovery_steps(trace: Trace) -> dict:
         "by_failure": dict(sorted(Counter(r.get("failure") for r in counted).items())),
         "exhausted": len(steps) - len(counted),
     }
-
-
-def delivers(action: dict) -> bool:
-    """An ``action`` event that put its item into a deposit: it ran the delivering unit
-    (``tidyplan.exec.catalogue.DELIVERS``); a trace written before actions named their units
-    is read by tidy.pddl's action name."""
-    if not action.get("ok"):
-        return False
-    if "units" in action:
-        return DELIVERS in action["units"]
-    return action.get("action", "").startswith("(deliver_it")
 
 
 def _arg(event: dict, i: int) -> str:

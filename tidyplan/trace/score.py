@@ -6,12 +6,12 @@ that object's points, +50 when every object is put away within the time limit (t
 The orientation bonus is not counted: no world models an object's orientation.
 
 One tally reads the events as they happen (the mission's summary) or from a trace file
-(``trace_read.summarise``, a killed run too), so the two figures agree by construction.
+(``tidyplan.trace.read.summarise``, a killed run too), so the two figures agree by construction.
 """
 
 from __future__ import annotations
 
-from tidyplan.trace.read import delivers
+from tidyplan.trace.events import delivers
 
 TIME_LIMIT_S = 15 * 60.0  # WRS 2020 / RoboCup 2021 DSPL rulebook: task 1 (tidy up) has 15 minutes
 DEPOSIT_POINTS = 10.0

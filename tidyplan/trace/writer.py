@@ -8,7 +8,6 @@ are documented in docs/trace.md; a reader skips kinds it does not know.
 from __future__ import annotations
 
 import json
-import math
 import os
 import time
 from pathlib import Path
@@ -17,8 +16,7 @@ from typing import Any
 from tidyplan.pddl import model as m
 from tidyplan.pddl.compile import compile_task
 from tidyplan.pddl.writer import domain_text, problem_text
-
-SCHEMA_VERSION = 1
+from tidyplan.trace.events import SCHEMA_VERSION
 
 
 class NoTrace:
@@ -115,14 +113,3 @@ class TraceWriter(NoTrace):
     def close(self) -> None:
         if not self._file.closed:
             self._file.close()
-
-
-def polyline(points, step: float = 0.1) -> list[list[float]]:
-    """A driven path as the trace stores it: points at least ``step`` metres apart (the last
-    always kept), each [x, y] rounded to 3 decimals; enough to draw, small enough to write."""
-    out: list[list[float]] = []
-    for i, (x, y) in enumerate(points):
-        last = i == len(points) - 1
-        if not out or last or math.dist(out[-1], (x, y)) >= step:
-            out.append([round(x, 3), round(y, 3)])
-    return out

@@ -7,6 +7,7 @@ implement it; the monitor sees a world only through it. Worlds are made by name
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
@@ -50,6 +51,18 @@ class Odometer:
     sim_time_s: float = 0.0
     distance_m: float = 0.0
     track: list[Point] = field(default_factory=list)
+
+    def path_since(self, mark: int, step: float = 0.1) -> list[list[float]]:
+        """The track driven since ``len(track)`` was ``mark``, as a trace stores it: points at
+        least ``step`` metres apart (the last always kept), each [x, y] rounded to 3 decimals;
+        enough to draw, small enough to write."""
+        out: list[list[float]] = []
+        points = self.track[mark:]
+        for i, (x, y) in enumerate(points):
+            last = i == len(points) - 1
+            if not out or last or math.dist(out[-1], (x, y)) >= step:
+                out.append([round(x, 3), round(y, 3)])
+        return out
 
 
 @runtime_checkable
