@@ -12,6 +12,8 @@ Invariants, relied on by callers that compare runs byte for byte (bench/tidygen.
   sqrt(2) cells; it is built in one fixed order, so Dijkstra's ties fall the same way each run;
 - every choice among equals (nearest cell) breaks ties by cell index, so results are a
   function of the inputs alone.
+
+Imports: none (the bottom of sim).
 """
 
 from __future__ import annotations

@@ -140,8 +140,7 @@ def test_bad_option_is_one_line_and_exit_2(write, tmp_path, tidyplan_cmd, args, 
 
 # ---------------------------------------------------------------- run's scenario
 def test_a_shipped_scenario_is_found_by_its_name_and_a_file_here_comes_first(tmp_path, monkeypatch):
-    from tidyplan.loop.scenarios import scenario_path
-    from tidyplan.loop.scenarios import project_file
+    from tidyplan.loop.scenarios import project_file, scenario_path
 
     monkeypatch.chdir(tmp_path)
     assert scenario_path("case1") == project_file("problems/case1.toml")

@@ -1,3 +1,8 @@
+"""``python -m tidyplan``: the command line.
+
+Imports: tidyplan.cli.
+"""
+
 import sys
 
 from tidyplan.cli.main import main

@@ -2,6 +2,8 @@
 
 Library code raises; only the command line turns an error into a message and
 exit status 2. Every error about a file carries where it happened.
+
+Layer 0. Imports: none.
 """
 
 from __future__ import annotations

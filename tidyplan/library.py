@@ -8,6 +8,9 @@ A scenario is a ``sim.scenario.model.Scenario``, a scenario file, or the name of
 (``case1``, ``case2``, ``case3``). A trace is written only when ``trace`` names a file (never
 over an existing one). Bad input raises ``tidyplan.InputError`` with the message the command
 line prints; a mission that fails is a summary with ``success`` False, not an exception.
+
+Layer 9, under the command line. Imports: tidyplan.errors, tidyplan.pddl, tidyplan.exec,
+tidyplan.worlds, tidyplan.loop, sim.
 """
 
 from __future__ import annotations

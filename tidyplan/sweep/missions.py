@@ -36,7 +36,7 @@ RAY_INSTALL = "pip install '.[ray]'"
 def mission(config: dict, trace: str) -> dict:
     """The real mission: ``tidyplan.loop.mission.run`` with the configuration's options."""
     from tidyplan.loop.mission import run
-    from tidyplan.sweep.grid import MissionConfig
+    from tidyplan.sweep.config import MissionConfig
 
     config = MissionConfig.from_row(config)
     return run(config.scenario_file, trace, config.settings())
