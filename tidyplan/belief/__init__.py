@@ -1,7 +1,8 @@
 """What the robot knows of the room (Goebelbecker's belief state): the map of waypoints, paths
 and what blocks them (``geometry``), the belief itself (``state``: items seen, their places,
-since when; virtual objects), where unseen items may be and each viewpoint's chance of
-revealing one (``exploration``, ``viewpoints``), and the belief written as a PDDL problem
+since when; virtual objects; where unseen items may be and each viewpoint's chance of revealing
+one), the viewpoints generated where the scenario's do not cover the room (``viewpoints``), the
+words the problems are written in (``vocabulary``) and the belief written as a PDDL problem
 (``problem``). Never the true items: only a world's referee knows those.
 
 Layer 3. Imports: tidyplan.errors, tidyplan.pddl, tidyplan.planning, sim.

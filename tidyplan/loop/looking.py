@@ -24,50 +24,65 @@ from tidyplan.trace import events
 LOOKS_INTO = 5
 
 
-def move(to: str, purpose: str, belief: Belief, executor, snapshot, observe, emit, count):
-    """A move the loop makes outside any plan (to look into a deposit, or at an item no plan
-    reaches), run and traced as an action of its own; returns the executor's report."""
-    step = Step("move", (belief.robot_wp, to), False, 1, 1.0, 0.0)
-    report = executor.drive(to, snapshot, belief, observe)
-    count.action(step, report, belief.holding is not None)
-    emit("action", **events.action(step.text, None, report, belief.robot, purpose=purpose))
-    return report
+class Excursions:
+    """The moves and looks the loop makes outside any plan, each run by the executor (the loop's
+    door to the robot) and traced as an action of its own: ``observe(detections, waypoint)`` takes
+    in what the looks on the way saw, ``emit`` traces, ``count`` counts the actions."""
 
+    def __init__(self, belief: Belief, executor, observe, emit, count) -> None:
+        self.belief, self.executor, self.observe, self.emit, self.count = (
+            belief,
+            executor,
+            observe,
+            emit,
+            count,
+        )
 
-def inspect(deposit: str, belief: Belief, executor, snapshot, observe, emit, count) -> list[str]:
-    """Drive to ``deposit`` (an action of its own in the trace) and look into it up to LOOKS_INTO
-    times until each item believed there is seen; returns the items lost (not there)."""
-    wp = deposit_waypoint(deposit)
-    report = move(wp, "inspect_deposit", belief, executor, snapshot, observe, emit, count)
-    if not report.ok:
-        return []
-    believed = Counter(k.category for k in belief.in_deposit(deposit))
-    shown: dict[tuple, Detection] = {}  # distinct items over the looks, by category and place
-    for _ in range(LOOKS_INTO):
-        for d in executor.look_into(deposit):
-            shown.setdefault((d.category, round(d.x, 2), round(d.y, 2)), d)
-        if Counter(c for c, _, _ in shown) >= believed:
-            break
-    confirmed, lost = belief.inspect_deposit(deposit, list(shown.values()))
-    emit("inspect_deposit", deposit=deposit, confirmed=confirmed, lost=lost)
-    return lost
+    def move(self, to: str, purpose: str, snapshot):
+        """Drive to waypoint ``to`` (for ``purpose``: inspect_deposit, look_again); returns the
+        executor's report."""
+        belief = self.belief
+        step = Step("move", (belief.robot_wp, to), False, 1, 1.0, 0.0)
+        report = self.executor.drive(to, snapshot, belief, self.observe)
+        self.count.action(step, report, belief.holding is not None)
+        self.emit("action", **events.action(step.text, None, report, belief.robot, purpose=purpose))
+        return report
 
+    def inspect(self, deposit: str, snapshot) -> list[str]:
+        """Drive to ``deposit`` and look into it up to LOOKS_INTO times until each item believed
+        there is seen; returns the items lost (not there)."""
+        report = self.move(deposit_waypoint(deposit), "inspect_deposit", snapshot)
+        if not report.ok:
+            return []
+        believed = Counter(k.category for k in self.belief.in_deposit(deposit))
+        shown: dict[tuple, Detection] = {}  # distinct items over the looks, by category and place
+        for _ in range(LOOKS_INTO):
+            for d in self.executor.look_into(deposit):
+                shown.setdefault((d.category, round(d.x, 2), round(d.y, 2)), d)
+            if Counter(c for c, _, _ in shown) >= believed:
+                break
+        confirmed, lost = self.belief.inspect_deposit(deposit, list(shown.values()))
+        self.emit("inspect_deposit", deposit=deposit, confirmed=confirmed, lost=lost)
+        return lost
 
-def go_and_look(belief: Belief, went: Counter, most: int, executor, snapshot, observe, emit, count):
-    """Drive to the nearest waypoint from which a look should see a believed item (placed, looked
-    at fewer than ``most`` times this way, counted in ``went``), and look; False if there is
-    none (-> bool). The look is the executor's, after the move."""
-    facts = belief.facts()
-    here = robot_waypoint(facts, belief)
-    for k in belief.untidied():
-        if k.state != "placed" or went[k.name] >= most:
-            continue
-        views = [w for w, q in facts.points.items() if (here, w) in facts.path and belief.should_see(k, q)]
-        if not views:
-            continue
-        w = min(views, key=lambda w: (facts.path[(here, w)], w))
-        went[k.name] += 1
-        emit("look_again", looks_left=0, item=k.name, waypoint=w)
-        move(w, "look_again", belief, executor, snapshot, observe, emit, count)
-        return True
-    return False
+    def go_and_look(self, went: Counter, most: int, snapshot) -> bool:
+        """Drive to the nearest waypoint from which a look should see a believed item (placed,
+        looked at fewer than ``most`` times this way, counted in ``went``), and look; False if
+        there is none. The look is the executor's, after the move."""
+        belief = self.belief
+        facts = belief.facts()
+        here = robot_waypoint(facts, belief)
+        for k in belief.untidied():
+            if k.state != "placed" or went[k.name] >= most:
+                continue
+            views = [
+                w for w, q in facts.points.items() if (here, w) in facts.path and belief.should_see(k, q)
+            ]
+            if not views:
+                continue
+            w = min(views, key=lambda w: (facts.path[(here, w)], w))
+            went[k.name] += 1
+            self.emit("look_again", looks_left=0, item=k.name, waypoint=w)
+            self.move(w, "look_again", snapshot)
+            return True
+        return False

@@ -35,15 +35,16 @@ from tidyplan.belief.problem import Snapshot, write
 from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import VOCABULARY
 from tidyplan.loop.counting import Counters
-from tidyplan.loop.looking import go_and_look, inspect
+from tidyplan.loop.looking import Excursions
 from tidyplan.loop.options import DEFAULTS
-from tidyplan.loop.replanning import Planning
+from tidyplan.loop.replanning import Replanner
 from tidyplan.loop.triggers import Cause, bind, check_assumptions
 from tidyplan.pddl import model as m
 from tidyplan.pddl.reader import read_domain, read_text
+from tidyplan.pddl.simulate import Simulator
 from tidyplan.pddl.static import changed_predicates
-from tidyplan.planning.planner import Status, Step
-from tidyplan.planning.strata import STRATEGIES
+from tidyplan.planning.planner import PlanResult, Status, Step
+from tidyplan.planning.strata import STRATEGIES, unproven_below
 from tidyplan.trace import events
 from tidyplan.worlds.contract import Referee, referee_view
 
@@ -79,7 +80,7 @@ class Outcome:
     counters: Counters
 
 
-class Mission(Planning):
+class Mission:
     """One run of the loop. ``planner(domain, problem, max_stratum) -> PlanResult``."""
 
     def __init__(
@@ -105,6 +106,17 @@ class Mission(Planning):
         self._went_to_look: Counter[str] = Counter()  # item -> drives to look at it before giving up
         self._verified_at: int | None = None  # actions done when the deposits were last looked into
         self._plain = trace.save("domain.pddl", self.domain_text)
+        self.replanner = Replanner(
+            self.domain,
+            belief,
+            planner,
+            self.max_stratum,
+            trace,
+            self.count,
+            config.min_probability,
+            self._plain,
+        )
+        self.excursions = Excursions(belief, executor, self._observe, trace.emit, self.count)
         self.executor.bind(self.domain)
         # the domain's predicates no sensor reports that its actions change (must-move-back):
         # the belief keeps them by the effects of the actions executed
@@ -239,8 +251,7 @@ class Mission(Planning):
         lost: list[str] = []
         for d in self.belief.scenario.deposits:
             if self.belief.in_deposit(d.name):
-                lost += inspect(d.name, self.belief, self.executor, self._map_now(),
-                                self._observe, self.trace.emit, self.count)  # fmt: skip
+                lost += self.excursions.inspect(d.name, self._map_now())
         return lost
 
     # ------------------------------------------------------------------ planning
@@ -258,10 +269,10 @@ class Mission(Planning):
         self.bound.clear()
         unlikely: list[float] = []
         out_of_time = 0  # goals not planned in time (or by an incomplete search): nothing proven
-        for label, goal, virtual in self._goals():
+        for label, goal, virtual in self.replanner.goals():
             if goal is not None and not goal:  # None: "feasible", worked out only when reached
                 continue
-            result, snap, problem, p = self._plan(goal, virtual, cause, why, label)
+            result, snap, problem, p = self.replanner.plan(goal, virtual, cause, why, label, self.stratum)
             if result.status is not Status.SOLVED:
                 out_of_time += result.status in (Status.TIMEOUT, Status.UNKNOWN)
                 continue
@@ -309,16 +320,22 @@ class Mission(Planning):
 
         return verdict
 
+    def _adopt(self, result: PlanResult, snap: Snapshot, problem: m.Problem, goal_kind: str) -> None:
+        self.snapshot, self.steps, self.goal_kind = snap, list(result.steps), goal_kind
+        self.stratum = result.stratum
+        if unproven_below(result.attempts):
+            self.count.segment_unproven = True
+        self.sim = Simulator(self.domain, problem)
+        self.goal = list(snap.goal)  # item names; renamed as virtual objects are bound
+
     def _map_now(self) -> Snapshot:
         """The belief's map as it is, for a move the loop makes outside any plan."""
         return write(self.belief, self.belief.facts(), [], [], "map-now", domain=self.domain)
 
     def _go_and_look(self) -> bool:
         """Before giving up on an item no plan reaches, look at it from where it should be seen
-        (``looking.go_and_look``), at most LOOKS_BEFORE_GIVING_UP times an item."""
-        b, went, most = self.belief, self._went_to_look, LOOKS_BEFORE_GIVING_UP
-        return go_and_look(b, went, most, self.executor, self._map_now(), self._observe,
-                           self.trace.emit, self.count)  # fmt: skip
+        (``Excursions.go_and_look``), at most LOOKS_BEFORE_GIVING_UP times an item."""
+        return self.excursions.go_and_look(self._went_to_look, LOOKS_BEFORE_GIVING_UP, self._map_now())
 
     def _worth_looking(self) -> bool:
         """A look can change the belief: some believed item is in view and could be missed."""

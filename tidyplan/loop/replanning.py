@@ -1,7 +1,7 @@
-"""The loop's calls to the planner (a mixin of ``tidyplan.loop.loop.Mission``): the goals to
-try, each written as a problem from the belief, planned, recorded in the trace with its
-commitment's probability, and the plan adopted. Kept apart from the loop's monitoring: this is
-where a replan's cost and its record are.
+"""The loop's calls to the planner: the goals to try, each written as a problem from the
+belief, planned, and recorded in the trace with its commitment's probability. A collaborator of
+the loop (``tidyplan.loop.loop.Mission`` adopts what it plans), kept apart from the monitoring:
+this is where a replan's cost and its record are.
 """
 
 from __future__ import annotations
@@ -20,14 +20,36 @@ from tidyplan.planning.planner import PlanResult, Status
 from tidyplan.planning.strata import transition, unproven_below
 
 
-class Planning:
-    """Uses the mission's ``belief``, ``planner``, ``domain``, ``max_stratum``, ``trace``,
-    ``count``, ``config``, ``stratum`` and ``_plain``; sets ``snapshot``, ``steps``, ``goal``,
-    ``goal_kind``, ``stratum`` and ``sim`` when a plan is adopted."""
+class Replanner:
+    """Plans for the mission: ``planner(domain, problem, max_stratum) -> PlanResult``, on the
+    ``belief``, recorded in ``trace`` and counted in ``count``; ``plain_domain`` is the trace's
+    copy of the domain the plan events name."""
 
-    _facts_s = 0.0  # seconds the last _goals spent on the map's facts
+    def __init__(
+        self,
+        domain: m.Domain,
+        belief,
+        planner,
+        max_stratum,
+        trace,
+        count,
+        min_probability: float,
+        plain_domain,
+    ) -> None:
+        self.domain, self.belief, self.planner, self.max_stratum = domain, belief, planner, max_stratum
+        self.trace, self.count, self.min_probability, self.plain_domain = (
+            trace,
+            count,
+            min_probability,
+            plain_domain,
+        )
+        self._facts_s = 0.0  # seconds the last goals() spent on the map's facts
+        self._facts = None
+        self._seen: list[str] = []
 
-    def _goals(self):
+    def goals(self):
+        """The goals to try in turn (``tidyplan.loop.goals``), the items given up left out, the
+        last one ``feasible`` (worked out only when reached: its goal is None)."""
         t0 = time.perf_counter()
         facts = self.belief.facts()
         self._facts_s = time.perf_counter() - t0  # the map's facts for this replan (cached since)
@@ -36,9 +58,11 @@ class Planning:
         self._facts, self._seen = facts, out[-1][1]
         return out[:-1] + [("feasible", None, [])]
 
-    def _plan(
-        self, goal, virtual, cause, why, label
-    ) -> tuple[PlanResult, Snapshot | None, m.Problem | None, float]:  # noqa: E501
+    def plan(
+        self, goal, virtual, cause, why, label, previous: int | None
+    ) -> tuple[PlanResult, Snapshot | None, m.Problem | None, float]:
+        """One goal planned and recorded: the result, the snapshot and problem it was planned
+        on, and its commitment's probability. ``previous``: the stratum of the plan it replaces."""
         if goal is None:  # the items that have a plan alone, nearest first, a horizon's worth
             goal = []  # (a planner call each: not one for every item of a 96-item room)
             for g in self._seen:
@@ -60,7 +84,6 @@ class Planning:
         t2 = time.perf_counter()
         result = self.planner(self.domain, problem, self.max_stratum)
         t3 = time.perf_counter()
-        previous = self.stratum
         p_commit = 0.0
         if result.status is Status.SOLVED:
             sim = Simulator(self.domain, problem)
@@ -71,7 +94,7 @@ class Planning:
         self.count.plan_times.append(seconds)
         base = f"replan-{n:03d}" + ("" if label == "all" else f"-{label}")
         paths = {
-            "domain": self._plain,
+            "domain": self.plain_domain,
             **self.trace.save_replan(base, snap.text, self.domain, problem, result.task),
         }
         phases = {"map_facts": facts_s, "problem": t2 - t1, **result.phases, "commitment": t4 - t3}
@@ -94,7 +117,7 @@ class Planning:
             cost=result.score.cost if result.score else None,
             probability=round(result.score.probability, 6) if result.score else None,
             commitment_probability=round(p_commit, 6) if result.score else None,
-            adopted=result.status is Status.SOLVED and p_commit >= self.config.min_probability,
+            adopted=result.status is Status.SOLVED and p_commit >= self.min_probability,
             plan=[s.text for s in result.steps],
             assumptions=sum(s.assumption for s in result.steps),
             message=result.message,
@@ -115,11 +138,3 @@ class Planning:
         snap = write(self.belief, self._facts, [item], [], "tidy-alone", domain=self.domain)
         problem = self._problem(snap, "alone.pddl")
         return self.planner(self.domain, problem, self.max_stratum).status is Status.SOLVED
-
-    def _adopt(self, result: PlanResult, snap: Snapshot, problem: m.Problem, goal_kind: str) -> None:
-        self.snapshot, self.steps, self.goal_kind = snap, list(result.steps), goal_kind
-        self.stratum = result.stratum
-        if unproven_below(result.attempts):
-            self.count.segment_unproven = True
-        self.sim = Simulator(self.domain, problem)
-        self.goal = list(snap.goal)  # item names; renamed as virtual objects are bound

@@ -28,6 +28,7 @@ LOOK_INTO_S = 2.0  # s: the head tilts to the deposit and the detector runs (as 
 # with the arm held (our figure: a little under the base's careful 0.11 m/s, a drawer steadily)
 PULL_SPEED = 0.1
 JAM_SHARE = (0.3, 0.7)  # of its travel: where a drawer that jams sticks
+TAKE_TOLERANCE = 0.15  # m: the gripper closes on an item this close to where it was located
 
 
 class WorldReferee:
@@ -139,6 +140,15 @@ class WorldReferee:
 
     def _placed(self) -> list[TrueItem]:
         return [o for o in self.items.values() if o.state == "placed"]
+
+    def _refused(self, deposit: str) -> Outcome | None:
+        """Why the hand cannot go to the drawer's handle: full, or not at the deposit's approach."""
+        if self.holding is not None:
+            return self._fail("hand_full", 1.0)
+        approach = next(d.approach for d in self.scenario.deposits if d.name == deposit)
+        if math.dist(self.robot, approach) > 0.1:
+            return self._fail("not_at_deposit", 1.0)
+        return None
 
     def _spend(self, seconds: float) -> Outcome:
         self.odometer.sim_time_s += seconds

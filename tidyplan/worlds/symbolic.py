@@ -32,12 +32,11 @@ from sim.scenario.model import DrawerLayout, Scenario, drawer_layout
 from sim.visibility import Box3, visible
 from tidyplan.belief.geometry import GRASP_MAX, RoomMap, free_spots
 from tidyplan.belief.state import Detection
-from tidyplan.worlds.base import PULL_SPEED, Odometer, Outcome, Rates, TrueItem, WorldReferee
+from tidyplan.worlds.base import PULL_SPEED, TAKE_TOLERANCE, Odometer, Outcome, Rates, TrueItem, WorldReferee
 
 Point = tuple[float, float]
 
 LOOK_S, LOCATE_S, TAKE_S, DELIVER_S, DROP_S = 2.0, 1.0, 12.0, 10.0, 8.0
-TAKE_TOLERANCE = 0.15  # m: the gripper closes on an item this close to where it was located
 CLOSE_RANGE = 1.2  # m: what a close-range look (head down, hand camera) sees around the robot
 OPENING_S, HANDLE_S = 1.0, 8.0  # s: a look at a drawer's front; reach its handle, grip, let go, stow
 
@@ -225,15 +224,6 @@ class SymbolicWorld(WorldReferee):
         self.jammed.pop(deposit, None)
         self._slide(deposit, 0.0)
         return self._spend((HANDLE_S if opening > 0 else OPENING_S) + opening / PULL_SPEED)
-
-    def _refused(self, deposit: str) -> Outcome | None:
-        """Why the hand cannot go to the drawer's handle: full, or not at the deposit's approach."""
-        if self.holding is not None:
-            return self._fail("hand_full", 1.0)
-        approach = next(d.approach for d in self.scenario.deposits if d.name == deposit)
-        if math.dist(self.robot, approach) > 0.1:
-            return self._fail("not_at_deposit", 1.0)
-        return None
 
     def _slide(self, deposit: str, to: float) -> None:
         """The drawer to ``to`` m out, the items in it along with it."""

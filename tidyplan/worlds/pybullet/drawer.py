@@ -96,15 +96,6 @@ class Drawers:
             self.openings[deposit.name] = drawer.interior()
 
     # ------------------------------------------------------------------ the handle
-    def _refused(self, deposit: str) -> Outcome | None:
-        """Why the hand cannot go to the drawer's handle: full, or not at the deposit's approach."""
-        if self.holding is not None:
-            return self._fail("hand_full", 1.0)
-        approach = next(d.approach for d in self.scenario.deposits if d.name == deposit)
-        if math.dist(self.robot, approach) > 0.1:
-            return self._fail("not_at_deposit", 1.0)
-        return None
-
     def _by_handle(self, deposit: str, to: float, failure: str | None) -> Outcome:
         """Back off by the opening, grip the handle (the level hand, pointing into the carcass),
         take the drawer to ``to`` m out with the base, let go, stow, drive back to where the robot

@@ -15,10 +15,9 @@ import pybullet as p
 from sim.motion import base_contacts, blocked
 from sim.robot import CARRY, GRIPPER_OPEN, HAND_DOWN, RAISED, REACHED, STOW, TURNS, hand_level
 from sim.room import inside
-from tidyplan.worlds.base import Outcome
+from tidyplan.worlds.base import TAKE_TOLERANCE, Outcome
 from tidyplan.worlds.pybullet.look import RECOGNISE_S
 from tidyplan.worlds.pybullet.put import PutIn, Spots, Unreached, fits, held_as, stood_up
-from tidyplan.worlds.symbolic import TAKE_TOLERANCE
 
 Point = tuple[float, float]
 
