@@ -22,7 +22,6 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "bench"))
 
 
 def _problems(scenario: str, seed: int, replans: int, out: Path) -> list[tuple[Path, Path]]:

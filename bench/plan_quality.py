@@ -14,15 +14,12 @@ from __future__ import annotations
 
 import argparse
 import statistics
-import sys
 import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "bench"))
 
-import tidygen  # noqa: E402
-
+from tidyplan.generate import tasks as tidygen  # noqa: E402
 from tidyplan.pddl.reader import read  # noqa: E402
 from tidyplan.planning.planner import plan  # noqa: E402
 

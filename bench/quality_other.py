@@ -24,18 +24,16 @@ from __future__ import annotations
 import argparse
 import math
 import statistics
-import sys
 import tempfile
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "bench"))
 
-import tidygen  # noqa: E402
 import tidygen_rooms  # noqa: E402
 
 from tidyplan.errors import PlannerError  # noqa: E402
+from tidyplan.generate import tasks as tidygen  # noqa: E402
 from tidyplan.pddl.compile import compile_task  # noqa: E402
 from tidyplan.pddl.reader import read  # noqa: E402
 from tidyplan.pddl.writer import domain_text, problem_text  # noqa: E402

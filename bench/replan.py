@@ -29,7 +29,6 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "bench"))
 
 PHASES = ("map_facts", "problem", "compile", "ground", "sas", "translate", "search", "commitment")
 DRIVER = None  # Fast Downward's driver script, found on first use

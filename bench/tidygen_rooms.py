@@ -17,12 +17,9 @@ from __future__ import annotations
 import argparse
 import itertools
 import math
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import tidygen  # noqa: E402
+from tidyplan.generate import tasks as tidygen  # noqa: E402
 
 
 def _place(waypoint: str) -> str:

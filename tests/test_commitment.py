@@ -4,8 +4,6 @@ the plan's steps up to its first goal fact, never the product over a whole room.
 from __future__ import annotations
 
 import json
-import sys
-from pathlib import Path
 
 import pytest
 
@@ -13,6 +11,7 @@ from tests.test_loop import EXACT, _events, _plans, _scenario
 from tidyplan.belief.geometry import RoomMap
 from tidyplan.belief.state import Belief
 from tidyplan.exec.bindings import MonitoredExecutor
+from tidyplan.generate import rooms as wrs  # noqa: E402
 from tidyplan.loop.loop import LoopConfig, Mission
 from tidyplan.loop.mission import run
 from tidyplan.loop.options import Settings
@@ -24,9 +23,6 @@ from tidyplan.planning.commitment import commitment, probability
 from tidyplan.planning.planner import Step, plan
 from tidyplan.trace.writer import TraceWriter
 from tidyplan.worlds.symbolic import SymbolicWorld
-
-sys.path.insert(0, str(Path(__file__).parent.parent / "bench"))
-import wrs  # noqa: E402
 
 DOMAIN_TEXT = """
 (define (domain toys)

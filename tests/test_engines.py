@@ -1,7 +1,6 @@
 """Running engines: deadlines, no litter in the user's folder, no subprocess left behind."""
 
 import os
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -15,8 +14,7 @@ from tidyplan.planning.engines import DEFAULT_ENGINE, ENGINES, engine_names
 from tidyplan.planning.planner import Status, plan
 
 ROOT = Path(__file__).parent.parent
-sys.path.insert(0, str(ROOT / "bench"))
-import tidygen  # noqa: E402
+from tidyplan.generate import tasks as tidygen  # noqa: E402
 
 
 @pytest.fixture(autouse=True)

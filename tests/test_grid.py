@@ -2,15 +2,11 @@
 
 import hashlib
 import math
-import sys
-from pathlib import Path
 
 import pytest
 
 from sim.grid import Box, OccupancyGrid
-
-sys.path.insert(0, str(Path(__file__).parent.parent / "bench"))
-import tidygen  # noqa: E402
+from tidyplan.generate import tasks as tidygen  # noqa: E402
 
 ROOM = (0.0, 4.0, 0.0, 3.0)  # 80 x 60 cells of 5 cm
 R = 0.22

@@ -18,8 +18,7 @@ from tidyplan.planning.planner import Status, plan
 
 ROOT = Path(__file__).parent.parent
 TIDY = ROOT / "domains" / "tidy.pddl"
-sys.path.insert(0, str(ROOT / "bench"))
-import tidygen  # noqa: E402
+from tidyplan.generate import tasks as tidygen  # noqa: E402
 
 # Cost-optimal and complete: two encodings of one task must give the same optimum.
 OPTIMAL = fd.Search(("--search", "astar(blind())"), anytime=False)
@@ -173,7 +172,7 @@ def test_the_sas_task_is_the_same_in_every_process():
     import subprocess
 
     script = (
-        "import sys; sys.path.insert(0, 'bench'); import tidygen, tempfile, pathlib\n"
+        "import sys, tempfile, pathlib\nfrom tidyplan.generate import tasks as tidygen\n"
         "from tidyplan.planning import grounding\n"
         "from tidyplan.pddl.compile import compile_task\n"
         "from tidyplan.pddl.reader import read\n"

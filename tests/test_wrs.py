@@ -10,7 +10,6 @@ from __future__ import annotations
 import itertools
 import math
 import re
-import sys
 from collections import Counter
 from pathlib import Path
 
@@ -18,9 +17,7 @@ import pytest
 
 from sim.scenario.model import FLOOR
 from sim.scenario.read import load
-
-sys.path.insert(0, str(Path(__file__).parent.parent / "bench"))
-import wrs  # noqa: E402
+from tidyplan.generate import rooms as wrs  # noqa: E402
 
 SEEDS = range(6)
 CASE1 = load(Path(__file__).parent.parent / "problems" / "case1.toml")
