@@ -1,5 +1,5 @@
 ;; avs.pddl: active visual search (Göbelbecker, Aydemir, Pronobis, Sjöö, Jensfelt,
-;; "A Planning Approach to Active Visual Search in Large Environments", seeds/003),
+;; "A Planning Approach to Active Visual Search in Large Environments"),
 ;; in the tidyplan dialect.
 ;;
 ;; The robot looks for an object of a class (a cerealbox) in a partly unknown building.

@@ -1,6 +1,6 @@
 ;; tidy.pddl: the O-FSM tidy-up domain (Yan et al., ARSO 2021) in the tidyplan dialect.
 ;;
-;; Mapping to the paper (seeds/000, Sec. IV-B, Table I):
+;; Mapping to the paper (Yan et al., O-FSM, Sec. IV-B, Table I):
 ;;   stratum 1 = P1 = {take_object, move, deliver_it, open_drawer}
 ;;               (Eq. 2-3: grasp an object and bring it to a deposit of its category,
 ;;               both reachable along known collision-free paths h(x,y); a deposit that is

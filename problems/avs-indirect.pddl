@@ -1,4 +1,4 @@
-;; avs-indirect: Göbelbecker et al.'s first plan (seeds/003, Sec. 4): the robot is in
+;; avs-indirect: Göbelbecker et al.'s first plan (their Sec. 4): the robot is in
 ;; the middle of a corridor; placeholder place1 (behind a door hypothesis) probably
 ;; leads to a kitchen; room2 is a known room of unknown category (office-looking).
 ;; Goal: report the position of a cerealbox. R = 1000.

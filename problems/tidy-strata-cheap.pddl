@@ -2,7 +2,7 @@
 ;; waypoint is 0.50 m from wp-tray by an ego-pose adjustment (stratum 2), while the
 ;; known paths to it go round the furniture (+6 m). The best stratum-2 plan is much
 ;; cheaper, yet a stratum-1 plan exists, so the stratum-1 plan must be chosen
-;; (Occam's razor, O-FSM Eq. 1 / DIALECT.md "Strata").
+;; (Occam's razor, O-FSM Eq. 1 / docs/dialect.md, strata).
 ;;
 ;; Expected plan, stratum 1 (c = 12.46 m + 4 = 16.46; c + 1000(1 - p) = 149.70):
 ;;   move wp-entrance wp-o1 (1.12); take_object o1 wp-o1

@@ -1,7 +1,7 @@
 """A drawer in pybullet: the carcass it slides out of and the drawer on a prismatic joint.
 
 The WRS stairs-like drawer's drawers have a handle and must be opened (RoboCup 2021 DSPL rules,
-../shared/HSR.md). One multibody: the base is the carcass, a static box of the furniture's
+docs/sources.md). One multibody: the base is the carcass, a static box of the furniture's
 footprint and height with a slot where the drawer is (built of the boxes around the slot, so its
 bounding box is the footprint: the robot's map, ``Room.as_built``, is of the closed carcass); the
 one link is the drawer, an open-top box (a bottom and four sides, one compound shape) with the

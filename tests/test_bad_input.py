@@ -1,4 +1,4 @@
-"""DIALECT.md §4: a bad file gets one `path:line:col: what is wrong` line per error,
+"""docs/dialect.md: a bad file gets one `path:line:col: what is wrong` line per error,
 exit status 2, no traceback, and nothing else on the machine is touched.
 
 Positions are computed from the text each test writes: a diagnostic points at the

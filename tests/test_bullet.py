@@ -21,7 +21,7 @@ from tidyplan.worlds.pybullet.world import BACK_OFF, STEP, BulletWorld
 from tidyplan.worlds.rates import Rates
 
 NO_FALSE_DETECTIONS = Rates(false_negative=0.0, false_positive=0.0)
-BASE_RADIUS = 0.215  # m: the base's collision cylinder, 430 mm across (HSR.md)
+BASE_RADIUS = 0.215  # m: the base's collision cylinder, 430 mm across (docs/sources.md)
 
 
 @pytest.fixture

@@ -1,9 +1,11 @@
-"""The command-line contract of DESIGN.md, and the README's own commands."""
+"""The command-line contract (docs/commands.md), and the README's own commands."""
 
 import json
+import os
 import re
 import shlex
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -129,6 +131,28 @@ def test_readme_opens_with_exactly_two_commands():
     assert "pytest" in first_block[1]
 
 
+def test_readme_is_a_front_door_whose_links_are_there():
+    text = (ROOT / "README.md").read_text()
+    assert len(text.splitlines()) < 150
+    assert not re.search(r"\b[0-9a-f]{7,40}\b", text), "a commit hash in the README"
+    assert "../shared" not in text, "the README names a file outside the repository"
+    for link in re.findall(r"\]\(([^)#]+)\)", text):
+        assert (ROOT / link).exists(), link
+
+
+@pytest.mark.slow
+def test_readmes_python_example_runs(tmp_path, monkeypatch):
+    """The README's Python block, as a user would paste it, in a folder of its own."""
+    block = re.search(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.DOTALL)
+    assert block is not None
+    monkeypatch.chdir(tmp_path)
+    done = subprocess.run([sys.executable, "-c", block.group(1)], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    success, delivered, replans = done.stdout.split()
+    assert success == "True" and delivered == "12" and int(replans) >= 0
+    assert os.listdir(tmp_path) == []  # no trace unless asked
+
+
 @pytest.mark.slow
 def test_readmes_main_command_runs(tidyplan_cmd, tmp_path):
     """The part after the install: the installed package is already under test. It runs the
@@ -150,7 +174,7 @@ def test_readmes_main_command_runs(tidyplan_cmd, tmp_path):
     [(TIDY, "tidy-p1"), (TIDY, "tidy-p2"), (TIDY, "tidy-p3"), (AVS, "avs-indirect"), (AVS, "avs-direct")],
 )
 def test_val_accepts_our_plans_on_the_compiled_pddl(domain, problem, tmp_path, capsys, val):
-    """DESIGN.md: VAL reads the plain PDDL `tidyplan compile` writes, so it can hold our plans to it.
+    """VAL reads the plain PDDL `tidyplan compile` writes, so it can hold our plans to it.
 
     The dialect's plans (assumptions included: they are actions in plain PDDL)
     are valid there, and VAL's plan value is the compiled integer cost.

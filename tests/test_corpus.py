@@ -1,4 +1,4 @@
-"""DIALECT.md §1: every IPC pair of the corpus is read, solved, and its plan holds up.
+"""docs/dialect.md: every IPC pair of the corpus is read, solved, and its plan holds up.
 
 Plans are held to two independent validators on the ORIGINAL corpus files:
 VAL (the community's standard) always, and unified-planning's own sequential
@@ -19,7 +19,7 @@ from tidyplan.pddl.writer import domain_text, problem_text
 from tidyplan.planning.planner import Status, plan
 
 # The files the dialect reader must accept although unified-planning's rejects them
-# (DIALECT.md §1): an action and a predicate sharing a name (floortile's `up`), a type
+# (docs/dialect.md): an action and a predicate sharing a name (floortile's `up`), a type
 # and an object sharing one (tidybot's `cart - cart`), `aircraft?a` with no space.
 UP_REJECTS = ["floortile-sat11-strips/seq-p01-001", "tidybot-opt11-strips/p01", "zenotravel/p01"]
 # Pairs whose compiled output unified-planning must read back: the renamed ones,
@@ -167,7 +167,7 @@ def test_files_unified_planning_rejects_are_read_by_the_dialect_reader(corpus_pa
             reader.parse_problem(str(pair.domain), str(pair.problem))
         domain, problem = read(pair.domain, pair.problem)
         assert domain.actions and problem.objects
-    # logistics00 is the fourth file DIALECT.md names; it must be read whatever UP does.
+    # logistics00 is the fourth file docs/dialect.md names; it must be read whatever UP does.
     for pair in corpus_pairs_by_id.values():
         if pair.folder == "logistics00":
             domain, problem = read(pair.domain, pair.problem)

@@ -1,4 +1,4 @@
-"""The HSR model (sim/hsr.urdf, sim/robot.py) against its published figures (../shared/HSR.md):
+"""The HSR model (sim/hsr.urdf, sim/robot.py) against its published figures (docs/sources.md):
 joints, limits, speeds and axes, the base's size, the height with the torso down and up, the
 torso following the arm lift, the gripper's opening."""
 
@@ -26,7 +26,7 @@ def hsr(client) -> HSR:
 
 
 # ---------------------------------------------------------------------- the model
-# name: (type, lower, upper, top speed, axis), from hsrb_description as HSR.md quotes it
+# name: (type, lower, upper, top speed, axis), from hsrb_description as docs/sources.md cites it
 JOINTS = {
     "torso_lift_joint": (p.JOINT_PRISMATIC, 0.0, 0.345, 0.1, (0, 0, 1)),
     "head_pan_joint": (p.JOINT_REVOLUTE, -3.84, 1.75, 1.0, (0, 0, 1)),

@@ -1,4 +1,4 @@
-"""DIALECT.md §1-2: what the reader accepts and what lands in the model.
+"""docs/dialect.md: what the reader accepts and what lands in the model.
 
 Keyword-looking names are names, letter case does not matter, layout quirks
 of real files are read, and each extension arrives with the value written.

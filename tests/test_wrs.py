@@ -1,4 +1,4 @@
-"""bench/wrs.py: seeded WRS rooms follow the spawner's rules (../shared/HSR.md) and load as scenarios.
+"""bench/wrs.py: seeded WRS rooms follow the spawner's rules (docs/sources.md) and load as scenarios.
 
 The rules are checked here from the files written, with their own arithmetic, not the
 generator's helpers: zone counts, categories, 0.2 m spacing, clearance from furniture, the

@@ -1,4 +1,4 @@
-"""The WRS Tidy Up score (../shared/HSR.md, "Scoring") counted from trace events (tidyplan/trace/score.py)."""
+"""The WRS Tidy Up score (docs/sources.md, "Scoring") counted from trace events (tidyplan/trace/score.py)."""
 
 from __future__ import annotations
 

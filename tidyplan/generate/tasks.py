@@ -7,7 +7,7 @@ dynamic programming over subsets (Held-Karp), so a bench can hold the planner's 
 ``optimum(seed)``. The grid and its paths are ``sim.grid``'s (the simulation's own); otherwise
 it imports only the standard library and numpy, never tidyplan.
 
-Room (figures from ../shared/HSR.md, Gazebo world of the WRS 2020 arena): x in [-3.0, 0.5],
+Room (figures from docs/sources.md, Gazebo world of the WRS 2020 arena): x in [-3.0, 0.5],
 y in [-2.0, 2.0] (3.5 m x 4 m; the deposit wall's furniture is centred at x = -2.7, so we put
 the wall at x = -3.0 and the far wall 3.5 m away: our choice, not confirmed). The entrance
 door is at the corner x = 0.5, y = -2.0 (our choice; the rules only say "at one corner").
@@ -51,7 +51,7 @@ FURNITURE = (
     Box(-1.90, 1.86, 0.80, 0.28, "shelf"),
     Box(-0.90, 1.70, 0.58, 0.54, "chair"),
 )
-# deposit -> (y of the deposit on the wall, category accepted); WRS rules via HSR.md
+# deposit -> (y of the deposit on the wall, category accepted); WRS rules, docs/sources.md
 DEPOSITS = {
     "tray-a": (-0.75, "food"),
     "tray-b": (-0.45, "food"),

@@ -1,7 +1,7 @@
 """Assemble one mission: scenario -> map, belief, world, executor, planner, trace -> summary.
 
 The command line and the Table II/III reproductions call ``run``; tests call it too, with a
-small time budget. The summary's fields are the command-line contract's (DESIGN.md).
+small time budget. The summary's fields are the command-line contract's (docs/architecture.md).
 """
 
 from __future__ import annotations

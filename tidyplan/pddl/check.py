@@ -1,4 +1,4 @@
-"""Semantic checks: what the grammar cannot say (DIALECT.md §4).
+"""Semantic checks: what the grammar cannot say (docs/dialect.md).
 
 Every check adds a `Diagnostic` with the place it concerns, so a file with
 several mistakes gets one line for each. Warnings (an extension used without

@@ -1,6 +1,6 @@
 """Compile the dialect into plain PDDL with action costs.
 
-What each extension becomes (DIALECT.md §2–3):
+What each extension becomes (docs/dialect.md):
 
 - `:probability` and the action's own cost become one integer cost,
   `round(S · (c(a) + R · −ln p(a)))` (see `tidyplan.pddl.criterion`). Where c or p

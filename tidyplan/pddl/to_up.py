@@ -1,7 +1,7 @@
 """Plain PDDL model to a unified-planning `Problem`.
 
 Built directly from our model rather than through unified-planning's PDDL
-reader, which rejects real files that Fast Downward accepts (DIALECT.md §1) and
+reader, which rejects real files that Fast Downward accepts (docs/dialect.md) and
 takes seconds on large problems. It uses unified-planning's global environment:
 up-fast-downward's optimal engine builds expressions there whatever problem it
 is given, so a private environment breaks it. Engine credits are silenced so

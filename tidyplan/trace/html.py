@@ -6,8 +6,8 @@ style and data inline, nothing fetched) works offline and can be attached to a b
 
 Everything the page shows is computed here and embedded as JSON; the page's script
 (``tidyplan/trace/replay/replay.js``) only draws it against the simulated clock. So the figures are
-``trace_read.summarise``'s, a replan's diff ``trace_diff.replan_diff``'s, the colours and unit
-rows the PNG's (``trace_plot``), and tests hold the drawing to the trace: ``pose_at`` is the
+``tidyplan.trace.read.summarise``'s, a replan's diff ``tidyplan.trace.diff.replan_diff``'s, the colours and unit
+rows the PNG's (``tidyplan.trace.plot``), and tests hold the drawing to the trace: ``pose_at`` is the
 script's interpolation. Invariants of the data:
 
 - ``track``: keyframes ``[t, x, y, heading]``, t non-decreasing, joined by straight lines at

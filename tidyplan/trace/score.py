@@ -1,4 +1,4 @@
-"""The WRS Tidy Up score of a mission (../shared/HSR.md, "Scoring"), counted from its trace events.
+"""The WRS Tidy Up score of a mission (docs/sources.md, "Scoring"), counted from its trace events.
 
 10 points per object deposited, +10 when the deposit is of the object's category, a drop halving
 that object's points, +50 when every object is put away within the time limit (the rulebook's

@@ -11,7 +11,7 @@ open (``place_fail``), objects that slip out while carried (``grasp_drop``; they
 hand to the floor, where perception must find them again), transient obstacles
 (``path_blocked``).
 
-Durations on the simulated clock come from the HSR (../shared/HSR.md): driving at 0.22 m/s
+Durations on the simulated clock come from the HSR (docs/sources.md): driving at 0.22 m/s
 (0.8 km/h; a careful pose adjustment at half that), turning at 0.75 rad/s, every arm, head and
 gripper motion from its joints' top speeds (all joints of a motion move at once); a head sweep
 pans the camera across the head's whole range (-3.84 to 1.75 rad at 1 rad/s, 5.6 s); a
