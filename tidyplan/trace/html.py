@@ -5,10 +5,10 @@ run wants to watch what the robot believed when it decided. One self-contained f
 style and data inline, nothing fetched) works offline and can be attached to a bug report.
 
 Everything the page shows is computed here and embedded as JSON; the page's script
-(``tidyplan/trace/replay/replay.js``) only draws it against the simulated clock. So the figures are
-``tidyplan.trace.read.summarise``'s, a replan's diff ``tidyplan.trace.diff.replan_diff``'s, the colours and unit
-rows the PNG's (``tidyplan.trace.plot``), and tests hold the drawing to the trace: ``pose_at`` is the
-script's interpolation. Invariants of the data:
+(``tidyplan/trace/replay/replay.js``) only draws it against the simulated clock. So the figures
+are ``tidyplan.trace.read.summarise``'s, a replan's diff ``tidyplan.trace.diff.replan_diff``'s,
+the colours and unit rows the PNG's (``tidyplan.trace.plot``), and tests hold the drawing to the
+trace: ``pose_at`` is the script's interpolation. Invariants of the data:
 
 - ``track``: keyframes ``[t, x, y, heading]``, t non-decreasing, joined by straight lines at
   constant speed. An action's ``path`` is spread by length over its motions (the ``do`` of the
