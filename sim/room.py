@@ -89,16 +89,21 @@ def build(scenario: Scenario, client: int) -> Room:
     robot = HSR(client, x, y, math.radians(scenario.heading_deg))
     room = Room(client, scenario, robot, floor=floor)
     room.walls, room.door = _walls(client, scenario)
-    # a deposit's drawer is built with the carcass it slides out of, in place of that piece's box
-    layouts = {d.name: drawer_layout(scenario.furniture, d) for d in scenario.deposits if d.drawer}
-    carcasses = {layout.carcass.name: (name, layout) for name, layout in layouts.items() if layout}
+    # the deposits' drawers are built with the carcass they slide out of, in place of its box
+    carcasses: dict[str, list] = {}  # furniture name -> [(deposit, its drawer's layout)], file order
+    for d in scenario.deposits:
+        layout = drawer_layout(scenario.furniture, d) if d.drawer else None
+        if layout is not None:
+            carcasses.setdefault(layout.carcass.name, []).append((d, layout))
     for f in scenario.furniture:
         colour = FURNITURE_COLOUR.get(f.kind, (0.7, 0.7, 0.68))
         if f.name in carcasses:
-            name, layout = carcasses[f.name]
-            category = next(d.category for d in scenario.deposits if d.name == name)
-            built = drawer.build(client, layout, colour, room.colour(category))
-            room.drawers[name], room.furniture[f.name], room.deposits[name] = built, built.body, built.body
+            held = carcasses[f.name]
+            colours = [room.colour(d.category) for d, _ in held]
+            built = drawer.build_carcass(client, [layout for _, layout in held], colour, colours)
+            room.furniture[f.name] = built[0].body
+            for (d, _), one in zip(held, built, strict=True):
+                room.drawers[d.name], room.deposits[d.name] = one, one.body
         elif f.kind == BIN:
             room.furniture[f.name] = _bin(client, f, colour)
         else:

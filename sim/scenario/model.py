@@ -279,6 +279,22 @@ class DrawerLayout:
         """The middle of the handle's grip, open by ``opening``: where the hand closes on it."""
         return (*self.point(opening + HANDLE[0] / 2), self.handle_z)
 
+    def slot(self) -> tuple[float, float, float, float]:
+        """(across0, across1, z0, z1) of the drawer's slot in the carcass: the drawer with its
+        boards and the play around them. Two drawers of one carcass must not share any of it."""
+        half = self.spec.width / 2 + BOARD + PLAY
+        return (
+            self.across - half,
+            self.across + half,
+            self.floor_z - BOARD - PLAY,
+            self.floor_z + self.spec.rim + PLAY,
+        )
+
+    def holds_height(self, z: float) -> bool:
+        """Does an object whose bottom is at ``z`` rest in this drawer (on its floor, below its
+        rim), rather than in a drawer above or below it in the same carcass?"""
+        return self.floor_z - 0.02 <= z <= self.floor_z + self.spec.rim
+
 
 def drawer_layout(furniture: Iterable[Furniture], deposit: Deposit) -> DrawerLayout | None:
     """Where ``deposit``'s drawer is: None without a drawer, an approach, or a carcass (the piece
@@ -298,6 +314,18 @@ def drawer_layout(furniture: Iterable[Furniture], deposit: Deposit) -> DrawerLay
             front = (f.cx, f.cy)[k] + sign * (f.sx, f.sy)[k] / 2
             out = sign * (closed[k] - front)  # the closed drawer's middle: half its depth inside
             return DrawerLayout(f, k, sign, front, place[1 - k], -2 * out, deposit.z, spec)
+    return None
+
+
+def shared_carcass_problems(a: DrawerLayout, b: DrawerLayout) -> str | None:
+    """Why two drawers of one carcass cannot both be built: they must slide out of the same face
+    (the carcass is one body with its slots in that face) and their slots must not overlap."""
+    if (a.k, a.sign) != (b.k, b.sign):
+        return f"slides out of another face of {a.carcass.name!r} than its other drawers"
+    a0, a1, az0, az1 = a.slot()
+    b0, b1, bz0, bz1 = b.slot()
+    if a0 < b1 and b0 < a1 and az0 < bz1 and bz0 < az1:
+        return "overlaps"
     return None
 
 

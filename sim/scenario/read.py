@@ -31,6 +31,7 @@ from sim.scenario.model import (
     NAME_RE,
     SCHEMA,
     Deposit,
+    DrawerLayout,
     DrawerSpec,
     Expect,
     Furniture,
@@ -42,6 +43,7 @@ from sim.scenario.model import (
     Viewpoint,
     drawer_layout,
     drawer_problems,
+    shared_carcass_problems,
 )
 
 
@@ -227,7 +229,10 @@ class _Reader(FieldReader):
                     self.error(where, f"on the floor but overlaps furniture {f.name!r}")
 
     def _drawers(self, parsed: dict[str, list], furniture: dict[str, Furniture], robot: Robot) -> None:
-        """A drawer must slide out of a furniture piece, fit it, and open clear of the robot."""
+        """A drawer must slide out of a furniture piece, fit it, and open clear of the robot; the
+        drawers of one carcass (the WRS stairs-like drawer has three) slide out of one face and
+        keep out of each other's slots."""
+        placed: dict[str, list[tuple[str, str, DrawerLayout]]] = {}  # carcass -> (label, name, layout)
         for label, _, d in parsed["deposit"]:
             if d is None or d.drawer is None:
                 continue
@@ -238,6 +243,12 @@ class _Reader(FieldReader):
                 continue
             for key, what in drawer_problems(layout, d.approach, robot.radius):
                 self.error(f"{label}.{key}", what)
+            for _, other, earlier in placed.get(layout.carcass.name, []):
+                why = shared_carcass_problems(layout, earlier)
+                if why is not None:
+                    what = f"its drawer {why} the drawer of {other!r} in {layout.carcass.name!r}"
+                    self.error(f"{label}.position", what)
+            placed.setdefault(layout.carcass.name, []).append((label, d.name, layout))
 
     def _expect(self, doc: dict, parsed: dict[str, list]) -> Expect:
         t = self.table(doc, "expect", required=False)

@@ -155,7 +155,8 @@ class Drawers:
         return abs(now - start), True
 
     def _riders(self, drawer) -> list[str]:
-        """The objects resting in the drawer: inside it, their bottom on its floor or above."""
+        """The objects resting in the drawer: inside it, their bottom on its floor and below its
+        rim (not in a drawer above it in the same carcass)."""
         x0, x1, y0, y1 = drawer.interior()
         out = []
         for name, item in self.items.items():
@@ -163,7 +164,7 @@ class Drawers:
                 continue
             (ax, ay, az), (bx, by, _) = p.getAABB(self.bodies[name], physicsClientId=self.client)
             cx, cy = (ax + bx) / 2, (ay + by) / 2
-            if x0 <= cx <= x1 and y0 <= cy <= y1 and az >= drawer.layout.floor_z - 0.02:
+            if x0 <= cx <= x1 and y0 <= cy <= y1 and drawer.layout.holds_height(az):
                 out.append(name)
         return out
 
