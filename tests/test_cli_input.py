@@ -149,3 +149,59 @@ def test_a_shipped_scenario_is_found_by_its_name_and_a_file_here_comes_first(tmp
     assert scenario_path("case1") == Path("case1")
     assert scenario_path("nosuch") == Path("nosuch")  # loading it says "no such file"
     assert scenario_path("sub/case1") == Path("sub/case1")  # a path is never looked up elsewhere
+
+
+def test_an_internal_error_in_a_mission_is_one_line_naming_the_kept_trace_exit_4(
+    tmp_path, capsys, monkeypatch
+):
+    """A bug of ours mid-mission: no traceback reaches the user; the trace so far is kept and
+    readable, the traceback beside it for the report."""
+    from tidyplan.cli.main import main
+    from tidyplan.exec.bindings import MonitoredExecutor
+
+    real, calls = MonitoredExecutor.execute, []
+
+    def broken(self, *args, **kwargs):
+        calls.append(1)
+        if len(calls) == 3:
+            raise ZeroDivisionError("a bug of ours")
+        return real(self, *args, **kwargs)
+
+    monkeypatch.setattr(MonitoredExecutor, "execute", broken)
+    trace = tmp_path / "t.jsonl"
+    args = [
+        "run",
+        "case1",
+        "--world",
+        "symbolic",
+        "--planner",
+        "lama-first",
+        "--trace",
+        str(trace),
+        "--quiet",
+    ]
+    assert main(args) == 4
+    (line,) = capsys.readouterr().err.splitlines()
+    assert line.startswith("tidyplan: internal error: ZeroDivisionError: a bug of ours; ")
+    assert f"the trace so far is {trace}" in line and "Traceback" not in line
+    saved = tmp_path / "t.traceback.txt"
+    assert f"the traceback is in {saved}" in line and "ZeroDivisionError" in saved.read_text()
+    monkeypatch.setattr(MonitoredExecutor, "execute", real)
+    assert main(["trace", str(trace)]) == 0  # read up to its last whole event
+    assert "action" in capsys.readouterr().out
+
+
+def test_an_internal_error_elsewhere_is_one_line_exit_4(capsys, monkeypatch, tmp_path):
+    from tidyplan.cli import main as cli
+
+    def broken(args):
+        raise KeyError("nobody expected this")
+
+    monkeypatch.setitem(cli.COMMANDS, "check", broken)
+    monkeypatch.delenv("TIDYPLAN_TRACEBACK", raising=False)
+    assert cli.main(["check", str(tmp_path / "x.pddl")]) == 4
+    (line,) = capsys.readouterr().err.splitlines()
+    assert (
+        line
+        == "tidyplan: internal error: KeyError: 'nobody expected this' (TIDYPLAN_TRACEBACK=1 shows where)"
+    )

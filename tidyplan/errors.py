@@ -52,3 +52,17 @@ class PddlError(InputError):
 
 class PlannerError(TidyplanError):
     """A planning engine that cannot be found, or that failed unexpectedly."""
+
+
+class InternalError(TidyplanError):
+    """A fault of tidyplan's own (a bug), not of the input: exit status 4. ``trace`` is the run's
+    trace, kept and readable up to its last whole event; ``details`` where the traceback went."""
+
+    def __init__(self, what: str, trace: str | None = None, details: str | None = None) -> None:
+        self.what, self.trace, self.details = what, trace, details
+        parts = [f"internal error: {what}"]
+        if trace:
+            parts.append(f"the trace so far is {trace}")
+        if details:
+            parts.append(f"the traceback is in {details}; please report it")
+        super().__init__("; ".join(parts))

@@ -20,7 +20,7 @@ from pathlib import Path
 from tidyplan.cli import run as cli_run
 from tidyplan.cli import sweep as cli_sweep
 from tidyplan.cli import trace as cli_trace
-from tidyplan.errors import Diagnostic, InputError, PlannerError, TidyplanError
+from tidyplan.errors import Diagnostic, InputError, InternalError, PlannerError, TidyplanError
 
 COMPILED_HEADER = "; plain PDDL compiled by tidyplan"
 
@@ -302,6 +302,9 @@ def main(argv: list[str] | None = None) -> int:
     except PlannerError as e:
         print(f"tidyplan: {e}", file=sys.stderr)
         return 2
+    except InternalError as e:
+        print(f"tidyplan: {e}", file=sys.stderr)
+        return 4
     except TidyplanError as e:
         print(f"tidyplan: {e}", file=sys.stderr)
         return 1
@@ -313,6 +316,12 @@ def main(argv: list[str] | None = None) -> int:
         return 128 + e.signum
     except BrokenPipeError:
         return 0
+    except Exception as e:  # noqa: BLE001 - a bug of ours: one line, never a traceback
+        if os.environ.get("TIDYPLAN_TRACEBACK"):
+            raise
+        what = f"{type(e).__name__}: {e}".splitlines()[0][:300]
+        print(f"tidyplan: internal error: {what} (TIDYPLAN_TRACEBACK=1 shows where)", file=sys.stderr)
+        return 4
     finally:
         for s, handler in previous.items():
             signal.signal(s, handler)

@@ -13,6 +13,7 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+from tidyplan.errors import InternalError, TidyplanError
 from tidyplan.loop.options import DEFAULTS  # plain values: `tidyplan check` loads no planner stack
 from tidyplan.loop.scenarios import DEFAULT_SCENARIO, load_scenario, project_file
 from tidyplan.planning.strata import STRATEGIES
@@ -160,30 +161,50 @@ def cmd_run(args) -> int:
         else _trace_path(Path("runs"), f"{scenario.name}-{args.strategy}-s{args.seed}")
     )
     show = None if args.quiet else _progress(len(scenario.items))
-    summary = run(
-        scenario,
-        world=args.world,
-        seed=args.seed,
-        strategy=args.strategy,
-        planner=args.planner,
-        faults=args.faults,
-        time_budget=args.time_budget,
-        patience=args.patience,
-        first_plan_limit=args.first_plan_limit,
-        min_probability=args.min_probability,
-        max_recovery=args.max_recovery,
-        time_limit=args.time_limit,
-        domain=args.domain,
-        trace=trace,
-        gui=args.gui,
-        on_event=show,
-        options="cli",
-    ).as_dict()
+    try:
+        summary = run(
+            scenario,
+            world=args.world,
+            seed=args.seed,
+            strategy=args.strategy,
+            planner=args.planner,
+            faults=args.faults,
+            time_budget=args.time_budget,
+            patience=args.patience,
+            first_plan_limit=args.first_plan_limit,
+            min_probability=args.min_probability,
+            max_recovery=args.max_recovery,
+            time_limit=args.time_limit,
+            domain=args.domain,
+            trace=trace,
+            gui=args.gui,
+            on_event=show,
+            options="cli",
+        ).as_dict()
+    except TidyplanError:
+        raise
+    except Exception as e:  # a bug of ours: one line naming the trace (kept), the traceback beside it
+        what = f"{type(e).__name__}: {e}".splitlines()[0][:300]
+        kept = str(trace) if trace.exists() else None
+        raise InternalError(what, kept, _save_traceback(trace) if kept else None) from e
     if args.json:
         print(json.dumps(summary))
     else:
         _print_summary(summary)
     return 0 if summary["success"] else 1
+
+
+def _save_traceback(trace: Path) -> str | None:
+    """The traceback of the exception being handled, in a file beside the trace (never over one)."""
+    import traceback
+
+    path = trace.with_suffix(".traceback.txt")
+    try:
+        with open(path, "x", encoding="utf-8") as f:
+            f.write(traceback.format_exc())
+    except OSError:
+        return None
+    return str(path)
 
 
 def _progress(total: int):
