@@ -66,18 +66,19 @@ class FakeWorld:
         self.hidden: set[str] = set()
         self.slippery: set[str] = set()
         self.changes: dict[int, object] = {}
+        self.phantoms: list[TrueItem] = []  # false detections every look reports, nothing to grasp
         self.motions = 0
 
     # senses
     def look(self) -> list[Detection]:
         self.odometer.sim_time_s += 1.0
-        return [self._seen(o) for o in self._placed() if o.name not in self.hidden]
+        return [self._seen(o) for o in self._placed() + self.phantoms if o.name not in self.hidden]
 
     def look_into(self, deposit: str) -> list[Detection]:
         return [self._seen(o) for o in self.items.values() if o.state == "tidied" and o.deposit == deposit]
 
     def locate(self, near, radius: float, category: str | None = None) -> Detection | None:
-        found = [o for o in self._placed() if math.dist((o.x, o.y), near) <= radius]
+        found = [o for o in self._placed() + self.phantoms if math.dist((o.x, o.y), near) <= radius]
         return self._seen(min(found, key=lambda o: math.dist((o.x, o.y), near))) if found else None
 
     def holds(self) -> bool:
@@ -183,11 +184,14 @@ class Recorder(NoTrace):
         self.events.append({"kind": kind, **fields})
 
 
-def _mission(toys, hidden=(), slippery=(), changes=None, planner=scripted):
+def _mission(toys, hidden=(), slippery=(), changes=None, planner=scripted, phantoms=()):
     scenario = loads(ROOM, "fake.toml")
     room = RoomMap(scenario)
     world = FakeWorld(scenario, room, toys)
     world.hidden, world.slippery, world.changes = set(hidden), set(slippery), dict(changes or {})
+    world.phantoms = [
+        TrueItem(f"phantom-{i}", "toy", x, y, "floor", *SIZE) for i, (x, y) in enumerate(phantoms)
+    ]
     trace = Recorder()
     mission = Mission(
         DOMAIN, Belief(scenario, room), MonitoredExecutor(world, trace.emit), world, planner, trace
@@ -255,6 +259,17 @@ def test_a_grasp_that_always_slips_is_recovery_exhausted_cause_iv_then_given_up(
     gave_up = [e for e in events if e["kind"] == "give_up"]
     assert [e["item"] for e in gave_up] == ["toy-1"] or len(gave_up) == 1
     assert world.untidied() == ["t1"]  # the rest tidied
+
+
+def test_the_verdict_is_the_referees_a_belief_that_gave_up_on_a_phantom_is_a_mismatch_not_a_failure():
+    # every look reports a toy where there is none (a false detection that will not go away):
+    # no grasp takes it, its recoveries are exhausted again and again, and the belief gives up
+    # on it. The room holds both true toys tidied: the mission succeeds, the mismatch is said.
+    outcome, events, world = _mission({"t1": (1.8, 1.0), "t2": (1.8, 2.2)}, phantoms=[(1.2, 2.0)])
+    gave_up = [e["item"] for e in events if e["kind"] == "give_up"]
+    assert gave_up and world.untidied() == []
+    assert outcome.success, outcome.reason
+    assert outcome.reason == f"goal reached; the belief gave up on {gave_up[0]}, not in the room"
 
 
 def test_an_item_beyond_what_the_robot_was_told_is_cause_v():

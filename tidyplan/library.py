@@ -39,6 +39,8 @@ class Summary:
     delivered: int
     lost_objects: int
     escaped: list[str]  # objects physics moved out of the room (a simulation fault)
+    given_up: list[str]  # the items of the belief it gave up on (none reached them)
+    untidied: list[str]  # the true objects the room holds outside a deposit of their category
     actions: int
     paper_actions: int  # actions as Yan et al. count them
     strata: dict[str, int]  # deliveries by stratum, P1 P2 P3

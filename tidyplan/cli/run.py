@@ -248,6 +248,9 @@ def _print_summary(s: dict) -> None:
         f"delivered {s['delivered']}/{s['objects']}, lost {s['lost_objects']}; "
         f"{s['actions']} actions ({s['paper_actions']} counted as Yan et al. do); plans by stratum: {strata}"
     )
+    if s.get("given_up"):  # the belief's account beside the room's: a mismatch is said, not scored
+        left = len(s.get("untidied") or [])
+        print(f"the belief gave up on {' '.join(s['given_up'])}; the room has {left} objects untidied")
     print(f"replans {s['replans']} ({causes}); kept {s['replans_avoided']} plans that stayed valid")
     print(
         f"distance {s['distance_m']} m, simulated time {s['sim_time_s']} s, wall time {s['wall_time_s']} s, "

@@ -238,11 +238,16 @@ class Mission:
         never_found = f" ({len(unfound)} items of the prior never found)" if unfound else ""
 
         def verdict(left: list[str]) -> str:
+            # the referee's verdict decides (the rulebook counts the room, not the belief): what
+            # the belief gave up on while the room has everything tidied is a mismatch, said so
+            if not left:
+                mismatch = (
+                    f"; the belief gave up on {undeliverable}, not in the room" if undeliverable else ""
+                )
+                return "goal reached" + never_found + mismatch
             if undeliverable:
                 return f"gave up on {undeliverable}, the rest tidied; the world has {len(left)} items left"
-            if left:
-                return f"belief says tidy, the world has {len(left)} items left"
-            return "goal reached" + never_found
+            return f"belief says tidy, the world has {len(left)} items left"
 
         return verdict
 

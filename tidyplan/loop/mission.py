@@ -124,6 +124,8 @@ def _summary(scenario, settings, world, belief, mission, outcome, started, trace
         "delivered": delivered,
         "lost_objects": lost_objects(world, belief),
         "escaped": world.escaped(),
+        "given_up": sorted(belief.undeliverable),  # what the belief gave up on ...
+        "untidied": world.untidied(),  # ... and what the room holds untidied (the referee's)
         "actions": count.actions,
         "paper_actions": count.paper_actions,
         "strata": dict(count.strata),
