@@ -23,6 +23,9 @@ SCHEMA = 1
 NAME_RE = re.compile(r"[a-z][a-z0-9_-]*")
 ITEM_SIZE = (0.08, 0.08, 0.10)  # m: a WRS-sized small object when the file gives no size
 FLOOR = "floor"
+# What the detector reports an unknown object as (WRS Task 1: one per category, no recognition
+# data): the deposits for it accept this category (bin B); its true category only the referee holds
+UNKNOWN = "unknown"
 # A drawer (the WRS stairs-like drawer's): 12 mm boards for its bottom, sides, back and front; 5 mm
 # of play around it in its slot; the grip of the WRS suction handle, 3.5 cm out from the front,
 # 6 cm across, 3 cm high (RoboCup 2021 DSPL rules: a grip of about 6 x 3.5 x 3 cm)
@@ -99,6 +102,12 @@ class Item:
     sx: float = ITEM_SIZE[0]
     sy: float = ITEM_SIZE[1]
     sz: float = ITEM_SIZE[2]
+    unknown: bool = False  # an unknown object: seen as UNKNOWN, its category the referee's alone
+
+    @property
+    def label(self) -> str:
+        """The category the detector reports and the deposits go by: UNKNOWN for an unknown object."""
+        return UNKNOWN if self.unknown else self.category
 
     def box(self) -> Box:
         """The footprint: an obstacle for the base when the item lies on the floor."""

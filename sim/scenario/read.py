@@ -30,6 +30,7 @@ from sim.scenario.model import (
     ITEM_SIZE,
     NAME_RE,
     SCHEMA,
+    UNKNOWN,
     Deposit,
     DrawerLayout,
     DrawerSpec,
@@ -188,16 +189,21 @@ class _Reader(FieldReader):
         return DrawerSpec(closed, **values) if len(self.messages) == before else None
 
     def _item(self, where: str, t: dict, bounds: tuple | None) -> Item | None:
-        self.keys(t, where, ("name", "category", "position", "on", "size"))
+        self.keys(t, where, ("name", "category", "position", "on", "size", "unknown"))
         name = self.string(t, where, "name", name=True)
         category = self.string(t, where, "category", name=True)
         pos = self.vector(t, where, "position", "[x, y]")
         self.inside(f"{where}.position", pos, bounds)
         on = self.string(t, where, "on", FLOOR)
         size = self.vector(t, where, "size", "[sx, sy, sz]", ITEM_SIZE, positive=True)
-        if None in (name, category, pos, on, size):
+        unknown = t.get("unknown", False)
+        if not isinstance(unknown, bool):
+            self.error(f"{where}.unknown", f"must be true or false, got {unknown!r}")
+        if category == UNKNOWN:
+            self.error(f"{where}.category", f"the true category, not {UNKNOWN!r}: say unknown = true")
+        if None in (name, category, pos, on, size) or not isinstance(unknown, bool):
             return None
-        return Item(name, category, pos[0], pos[1], on, *size)
+        return Item(name, category, pos[0], pos[1], on, *size, unknown=unknown)
 
     def _viewpoint(self, where: str, t: dict, bounds: tuple | None) -> Viewpoint | None:
         self.keys(t, where, ("name", "position"))
@@ -214,7 +220,10 @@ class _Reader(FieldReader):
             on, category = t.get("on", FLOOR), t.get("category")
             if isinstance(on, str) and on != FLOOR and on not in furniture_names:
                 self.error(f"{label}.on", f'no furniture named {on!r} (nor "{FLOOR}")')
-            if isinstance(category, str) and NAME_RE.fullmatch(category) and category not in accepted:
+            if t.get("unknown") is True:  # it goes where the deposits for unknown objects are
+                if UNKNOWN not in accepted:
+                    self.error(f"{label}.unknown", f"an unknown object, and no deposit accepts {UNKNOWN!r}")
+            elif isinstance(category, str) and NAME_RE.fullmatch(category) and category not in accepted:
                 self.error(f"{label}.category", f"no deposit accepts category {category!r}")
         for label, _, item in parsed["item"]:
             if item is None:

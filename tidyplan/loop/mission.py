@@ -152,17 +152,17 @@ def lost_objects(world, belief: Belief) -> int:
             continue
         if item.state == "tidied":
             if not any(
-                k.state == "tidied" and k.deposit == item.deposit and k.category == item.category
+                k.state == "tidied" and k.deposit == item.deposit and k.category == item.label
                 for k in belief.items.values()
             ):
                 lost += 1
             continue
         if item.state == "held":
-            ok = belief.holding is not None and belief.items[belief.holding].category == item.category
+            ok = belief.holding is not None and belief.items[belief.holding].category == item.label
         else:
             ok = any(
                 k.state == "placed"
-                and k.category == item.category
+                and k.category == item.label
                 and math.dist((k.x, k.y), (item.x, item.y)) <= 0.2
                 for k in belief.items.values()
             )

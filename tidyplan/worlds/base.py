@@ -48,17 +48,17 @@ class WorldReferee:
         self.fp = s.false_positive if rates.false_positive is None else rates.false_positive
         self.rates = rates
         self.items = {
-            i.name: TrueItem(i.name, i.category, i.x, i.y, i.on, i.sx, i.sy, i.sz) for i in scenario.items
+            i.name: TrueItem(i.name, i.category, i.x, i.y, i.on, i.sx, i.sy, i.sz, label=i.label)
+            for i in scenario.items
         }
         self.holding: str | None = None
 
     def untidied(self) -> list[str]:
-        """Items not in a deposit of their category."""
+        """Items not in a deposit of their category (an unknown object's: the deposits for
+        unknown objects, as the rulebook counts it)."""
         cat = {d.name: d.category for d in self.scenario.deposits}
         return sorted(
-            o.name
-            for o in self.items.values()
-            if o.state != "tidied" or cat.get(o.deposit or "") != o.category
+            o.name for o in self.items.values() if o.state != "tidied" or cat.get(o.deposit or "") != o.label
         )
 
     def where(self, name: str) -> tuple[str, Point]:
@@ -83,7 +83,7 @@ class WorldReferee:
         out = []
         for o in sorted(self.items.values(), key=lambda o: o.name):
             if o.state == "tidied" and o.deposit == deposit and self.rng.random() >= self.fn:
-                out.append(Detection(o.category, o.x, o.y, o.on, o.sx, o.sy, o.sz))
+                out.append(Detection(o.label, o.x, o.y, o.on, o.sx, o.sy, o.sz))
         self.odometer.sim_time_s += LOOK_INTO_S
         return out
 
@@ -133,7 +133,7 @@ class WorldReferee:
         angle = self.rng.uniform(0, 2 * math.pi)
         dist = self.rng.uniform(s.range_min, min(s.range_max, 2.0))
         x, y = self.robot[0] + dist * math.cos(angle), self.robot[1] + dist * math.sin(angle)
-        cats = sorted({i.category for i in self.items.values()})
+        cats = sorted({i.label for i in self.items.values()})  # what a detection could say
         cat = cats[int(self.rng.integers(0, len(cats)))]
         x0, x1, y0, y1 = self.scenario.bounds
         return [Detection(cat, round(x, 3), round(y, 3), "floor")] if x0 < x < x1 and y0 < y < y1 else []

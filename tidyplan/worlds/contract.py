@@ -31,6 +31,11 @@ class TrueItem:
     sz: float
     state: str = "placed"  # placed, held, tidied
     deposit: str | None = None
+    label: str = ""  # what the detector reports and the deposits go by (UNKNOWN for an unknown
+    # object, whose category only the referee holds); its category where not given
+
+    def __post_init__(self) -> None:
+        self.label = self.label or self.category
 
 
 @dataclass(frozen=True, slots=True)

@@ -78,7 +78,7 @@ class SymbolicWorld(WorldReferee):
             z = self._base_z(it) + it.sz / 2
             miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
             if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max) and not miss:
-                out.append(Detection(it.category, it.x, it.y, it.on, it.sx, it.sy, it.sz))
+                out.append(Detection(it.label, it.x, it.y, it.on, it.sx, it.sy, it.sz))
         return out + self._phantom()
 
     def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None:
@@ -92,12 +92,12 @@ class SymbolicWorld(WorldReferee):
             for o in self._placed()
             if math.dist((o.x, o.y), near) <= radius
             and math.dist((o.x, o.y), self.robot) <= CLOSE_RANGE
-            and (category is None or o.category == category)
+            and (category is None or o.label == category)
         ]
         if self.rng.random() < self.fn or not found:
             return None
         o = min(found, key=lambda o: (math.dist((o.x, o.y), near), o.name))
-        return Detection(o.category, o.x, o.y, o.on, o.sx, o.sy, o.sz)
+        return Detection(o.label, o.x, o.y, o.on, o.sx, o.sy, o.sz)
 
     def holds(self) -> bool:
         """The gripper's sensor (finger angle, wrist force): is something in the hand?"""
