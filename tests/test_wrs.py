@@ -200,3 +200,53 @@ def test_bad_options_exit_2_with_one_message(tmp_path, capsys, bad):
     err = capsys.readouterr().err
     assert e.value.code == 2 and len(err.splitlines()) == 1 and err.startswith("wrs.py: "), err
     assert not list(tmp_path.iterdir())
+
+
+# ---------------------------------------------------------------------- WRS Task 1
+TASK1_SEEDS = range(10)
+
+
+@pytest.fixture(scope="module")
+def task1_rooms():
+    return {seed: wrs.task1(seed) for seed in TASK1_SEEDS}
+
+
+def test_task1_rooms_hold_30_objects_5_known_of_each_category_and_an_unknown_one_each(task1_rooms):
+    for seed, s in task1_rooms.items():
+        assert len(s.items) == 30, seed
+        known = Counter(i.category for i in s.items if not i.unknown)
+        unknown = Counter(i.category for i in s.items if i.unknown)
+        assert known == {c: 5 for c in wrs.TASK1_CATEGORIES}, seed
+        assert unknown == {c: 1 for c in wrs.TASK1_CATEGORIES}, seed
+        assert dict(s.prior) == {**{c: 5 for c in wrs.TASK1_CATEGORIES}, "unknown": 5}
+        assert all(i.name.startswith("unknown-") == i.unknown for i in s.items)
+
+
+def test_task1_objects_keep_the_spawners_rules(task1_rooms):
+    for seed, s in task1_rooms.items():
+        for a, b in itertools.combinations(s.items, 2):
+            assert math.dist((a.x, a.y), (b.x, b.y)) >= wrs.SPACING - 1e-9, (seed, a.name, b.name)
+        for i in s.items:
+            if i.on != FLOOR:
+                f = s.furniture_named(i.on)
+                assert (
+                    abs(i.x - f.cx) + i.sx / 2 <= f.sx / 2 + 1e-9
+                    and abs(i.y - f.cy) + i.sy / 2 <= f.sy / 2 + 1e-9
+                )
+
+
+def test_the_shipped_task1_room_is_the_generators_seed_0_and_loads():
+    from tidyplan.loop.scenarios import load_scenario
+
+    shipped = load_scenario("wrs-task1")
+    assert shipped.items == wrs.task1(0).items and shipped.prior == wrs.task1(0).prior
+    drawers = [d.name for d in shipped.deposits if d.drawer]
+    assert drawers == ["drawer-left", "drawer-bottom", "drawer-top"]
+    assert {d.category for d in shipped.deposits} == {*wrs.TASK1_CATEGORIES, "unknown"}
+
+
+def test_task1_rooms_write_and_read_back(tmp_path, task1_rooms):
+    for seed in (0, 7):
+        target = tmp_path / wrs.file_name("task1", seed)
+        wrs.write(task1_rooms[seed], target)
+        assert load(target).items == task1_rooms[seed].items

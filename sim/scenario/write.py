@@ -58,6 +58,7 @@ def dumps(s: Scenario) -> str:
             f"on = {_str(i.on)}",
             f"size = {_list((i.sx, i.sy, i.sz))}",
         ]
+        lines += ["unknown = true"] if i.unknown else []
     return "\n".join(lines) + "\n"
 
 
