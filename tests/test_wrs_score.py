@@ -1,12 +1,24 @@
-"""The WRS Tidy Up score (docs/sources.md, "Scoring") counted from trace events (tidyplan/trace/score.py)."""
+"""The WRS Tidy Up score counted from trace events (tidyplan/trace/score.py), rule by rule as the
+RoboCup 2021 DSPL rulebook counts Task 1 (docs/sources.md)."""
 
 from __future__ import annotations
 
 from tidyplan.trace.score import WrsTally, wrs_score
 
 
-def _start(n: int = 2) -> dict:
-    return {"kind": "start", "sim_s": 0.0, "expected": {"food": n}}
+def _start(n: int = 2, drawers=()) -> dict:
+    return {"kind": "start", "sim_s": 0.0, "expected": {"food": n}, "drawers": list(drawers)}
+
+
+def _open(drawer: str, t: float) -> dict:
+    step = f"(open_drawer {drawer} wp-{drawer})"
+    return {
+        "kind": "action",
+        "sim_s": t,
+        "ok": True,
+        "action": step,
+        "units": ["approach_handle", "pull_handle"],
+    }
 
 
 def _take(item: str, t: float) -> dict:
@@ -39,10 +51,34 @@ def test_wrs_20_points_per_object_in_its_category_and_50_when_all_are_put_away()
     assert wrs_score(events) == 2 * 20 + 50
 
 
-def test_wrs_a_drop_halves_that_objects_points_only():
+def test_wrs_a_drop_costs_nothing_when_the_robot_picks_the_same_object_up_again():
     events = [_start(), _take("a", 10), _drop(15), _drop(16), _deliver("a", 20)]
     events += [_take("b", 30), _deliver("b", 40), _end()]
-    assert wrs_score(events) == 20 / 4 + 20 + 50
+    assert wrs_score(events) == 20 + 20 + 50
+
+
+def test_wrs_a_drop_halves_the_next_object_deposited_when_it_is_another():
+    # a falls and stays; b is taken and deposited next: b's points are halved; a, later, is not
+    events = [_start(), _take("a", 10), _drop(15), _take("b", 30), _deliver("b", 40)]
+    events += [_take("a", 50), _deliver("a", 60), _end()]
+    assert wrs_score(events) == 20 / 2 + 20 + 50
+
+
+def test_wrs_opening_every_drawer_earns_50_and_not_one_fewer():
+    drawers = ("drawer-left", "drawer-top")
+    both = [_start(drawers=drawers), _open("drawer-left", 5), _open("drawer-top", 8)]
+    both += [_take("a", 10), _deliver("a", 20), _take("b", 30), _deliver("b", 40), _end()]
+    assert wrs_score(both) == 2 * 20 + 50 + 50
+    one = [e for e in both if "drawer-top" not in e.get("action", "")]
+    assert wrs_score(one) == 2 * 20 + 50
+    late = [*both[:2], _open("drawer-top", 950), *both[3:]]
+    assert wrs_score(late, time_limit_s=900) == 2 * 20 + 50  # opened after the referee stopped the run
+
+
+def test_wrs_no_points_until_one_object_is_in_a_deposit():
+    drawers = ("drawer-left",)
+    events = [_start(drawers=drawers), _open("drawer-left", 5), _take("a", 10)]
+    assert wrs_score(events) == 0
 
 
 def test_wrs_a_delivery_after_the_time_limit_scores_nothing_and_loses_the_bonus():

@@ -137,6 +137,7 @@ class Mission:
             scenario_file=os.path.abspath(scenario.path) if os.path.isfile(scenario.path) else scenario.path,
             robot=list(map(_r, self.belief.robot)),
             time_limit_s=self.config.time_limit_s,
+            drawers=[d.name for d in scenario.deposits if d.drawer],  # for the score's drawers bonus
         )
         self._observe(self.executor.look(), "wp-entrance")
         ending = self._replan(Cause.INITIAL)
