@@ -137,3 +137,13 @@ def test_checking_a_domain_loads_no_world_and_no_numeric_stack(tmp_path):
         "tidyplan.worlds.rates",
     }
     assert worlds == set(), f"tidyplan check loaded the worlds: {sorted(worlds)}"
+
+
+def test_every_package_ships():
+    """pyproject.toml lists the packages by name: a new one left out would be missing from an
+    installed tidyplan, though the tests, run from the clone, would still find it."""
+    import tomllib
+
+    listed = set(tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    found = {m for m, path in MODULES.items() if path.name == "__init__.py"}
+    assert found - listed == set()
