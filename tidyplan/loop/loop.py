@@ -143,8 +143,13 @@ class Mission:
         ending = self._replan(Cause.INITIAL)
         while ending is None:
             ending = self._tick()
-        # the referee's verdict, the one time the loop asks it: what the world has left untidied
-        reason = ending if isinstance(ending, str) else ending(self.referee.untidied())
+        # the referee's verdict, the one time the loop asks it: what the world has left untidied.
+        # It decides success, as the rulebook counts the room: a mission that ended on a failure
+        # of its own (an action that would not go) with every object put away has tidied the room
+        left = self.referee.untidied()
+        reason = ending if isinstance(ending, str) else ending(left)
+        if not left and not reason.startswith("goal reached"):
+            reason = f"goal reached: the room is tidied, though {reason}"
         success = reason.startswith("goal reached")
         escaped = self.referee.escaped()
         if escaped:  # the simulation's fault, not the robot's: reported, never counted as lost
