@@ -198,11 +198,11 @@ def task1(seed: int, base: Scenario | None = None) -> Scenario:
     categories = [c for c in TASK1_CATEGORIES for _ in range(TASK1_KNOWN + 1)]
     known = _room(rng, zones, list(base.furniture), base.bounds, [], clear, categories=categories)
     unknown = {rng.choice([i.name for i in known if i.category == c]) for c in TASK1_CATEGORIES}
-    items, letters = [], {}
+    items, n = [], 0
     for i in known:
         if i.name in unknown:
-            n = letters["unknown"] = letters.get("unknown", -1) + 1
             items.append(replace(i, name=f"unknown-{_letters(n)}", unknown=True))
+            n += 1
         else:
             items.append(i)
     name = file_name("task1", seed).removesuffix(".toml")

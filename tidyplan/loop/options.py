@@ -10,7 +10,7 @@ texts that show them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
 from tidyplan.errors import InputError, PlannerError
 from tidyplan.planning.engines import (
@@ -84,10 +84,6 @@ class Settings:
     def improvement_patience(self) -> float | None:
         """The planner's patience: None where the whole budget is used (0)."""
         return self.patience or None
-
-    @classmethod
-    def names(cls) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(cls))
 
 
 DEFAULTS = Settings()

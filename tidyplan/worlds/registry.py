@@ -11,8 +11,18 @@ from importlib import import_module
 
 # what the behaviour units call on a world (tidyplan.exec.catalogue names them per unit)
 EVERY_SKILL = frozenset(
-    {"drawer_opening", "follow", "grasp", "holds", "locate", "place", "pose", "pull_handle", "push_drawer"}
-    | {"put_down"}
+    (
+        "drawer_opening",
+        "follow",
+        "grasp",
+        "holds",
+        "locate",
+        "place",
+        "pose",
+        "pull_handle",
+        "push_drawer",
+        "put_down",
+    )
 )
 
 
