@@ -38,6 +38,7 @@ WALL_HEIGHT, WALL_THICKNESS = 1.5, 0.30
 DOOR = 1.2  # m, in the wall nearest the entrance: shut, a door leaf of the wall's height and thickness
 TRAY, RIM = 0.38, 0.05  # m: inner side of a deposit tray (the WRS food tray, 0.38 x 0.36), rim height
 BIN, BIN_WALL = "bin", 0.015  # the furniture kind built as an open box; m, its sides and bottom
+CONTAINER_WALL = 0.005  # m: a container's sides and bottom (WRS container B is a 9.5 cm box)
 ITEM_MASS = 0.1  # kg
 # continuous collision detection for the items: a swept sphere of half the thinnest half-size
 # (inside the box), which pybullet uses once a step moves the item more than half that radius
@@ -78,7 +79,10 @@ class Room:
         return opening(self.scenario, next(d for d in self.scenario.deposits if d.name == deposit))
 
     def colour(self, category: str) -> tuple[float, float, float]:
-        return PALETTE[self.scenario.categories().index(category) % len(PALETTE)]
+        # the items' categories first (their colours as before), then deposits' own (orientation)
+        known = self.scenario.categories()
+        known += sorted({d.category for d in self.scenario.deposits} - set(known))
+        return PALETTE[known.index(category) % len(PALETTE)]
 
 
 def build(scenario: Scenario, client: int) -> Room:
@@ -114,6 +118,9 @@ def build(scenario: Scenario, client: int) -> Room:
         held_by = holder(scenario, d)
         if held_by is not None:
             room.deposits[d.name] = room.furniture[held_by.name]
+        elif d.container is not None:
+            sx, sy, h = d.container
+            room.deposits[d.name] = _open_box(client, (d.x, d.y, d.z), sx, sy, h, room.colour(d.category))
         else:
             room.deposits[d.name] = _tray(client, (d.x, d.y, d.z), room.colour(d.category))
     for i in scenario.items:
@@ -179,6 +186,9 @@ def opening(scenario: Scenario, deposit) -> tuple[float, float, float, float]:
     if f is not None:
         hx, hy = f.sx / 2 - BIN_WALL, f.sy / 2 - BIN_WALL
         return f.cx - hx, f.cx + hx, f.cy - hy, f.cy + hy
+    if deposit.container is not None:
+        hx, hy = deposit.container[0] / 2 - CONTAINER_WALL, deposit.container[1] / 2 - CONTAINER_WALL
+        return deposit.x - hx, deposit.x + hx, deposit.y - hy, deposit.y + hy
     h = TRAY / 2
     return deposit.x - h, deposit.x + h, deposit.y - h, deposit.y + h
 
@@ -186,7 +196,14 @@ def opening(scenario: Scenario, deposit) -> tuple[float, float, float, float]:
 def _bin(client: int, f: Furniture, colour) -> int:
     """An open box of the piece's footprint and height: a bottom and four sides, one body. What
     is dropped in stays in, stacked or leaning, as in the WRS bins (0.38 x 0.33 x 0.33)."""
-    t, hx, hy, h = BIN_WALL, f.sx / 2, f.sy / 2, f.height
+    return _open_box(client, (f.cx, f.cy, 0.0), f.sx, f.sy, f.height, colour, BIN_WALL)
+
+
+def _open_box(client: int, at, sx: float, sy: float, h: float, colour, t: float = 0.0) -> int:
+    """An open box of outer ``sx`` x ``sy`` x ``h`` standing at ``at`` (x, y, its bottom), its
+    bottom and sides ``t`` thick (CONTAINER_WALL where not given): a bin, a container."""
+    t = t or CONTAINER_WALL
+    hx, hy = sx / 2, sy / 2
     parts = [
         ((0, 0, t / 2), (hx, hy, t / 2)),
         ((hx - t / 2, 0, h / 2), (t / 2, hy, h / 2)),
@@ -194,7 +211,7 @@ def _bin(client: int, f: Furniture, colour) -> int:
         ((0, hy - t / 2, h / 2), (hx, t / 2, h / 2)),
         ((0, -hy + t / 2, h / 2), (hx, t / 2, h / 2)),
     ]
-    return _compound(client, parts, (f.cx, f.cy, 0.0), colour)
+    return _compound(client, parts, at, colour)
 
 
 def _tray(client: int, at: tuple[float, float, float], colour) -> int:

@@ -206,3 +206,7 @@ def test_a_mission_with_the_three_drawer_chest_tidies_every_tool_into_a_drawer(w
     assert ends["kind"] == "end"
     tools = {k: v for k, v in ends["items"].items() if k.startswith("tool")}
     assert tools and all("drawer" in where for where in map(str, tools.values())), tools
+    # all three opened (the rulebook's +50), though the tools fit in one: the first plans' goal
+    events = [json.loads(line) for line in open(trace)]
+    opened = {e["action"].split()[1] for e in events if e["kind"] == "action" and e["ok"] and "open_drawer" in e["action"]}
+    assert opened == {"drawer-left", "drawer-bottom", "drawer-top"}

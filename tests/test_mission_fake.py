@@ -138,6 +138,9 @@ class FakeWorld:
     def escaped(self) -> list[str]:
         return []
 
+    def standing(self) -> list[str]:
+        return []
+
     def close(self) -> None:
         pass
 

@@ -127,7 +127,7 @@ def test_deposit_without_approach():
     assert s.deposits[0].approach is None
 
 
-KNOWN_ITEM = "category, name, on, position, size, unknown"
+KNOWN_ITEM = "category, name, on, orientation, position, size, unknown"
 
 
 @pytest.mark.parametrize(

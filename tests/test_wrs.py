@@ -242,7 +242,24 @@ def test_the_shipped_task1_room_is_the_generators_seed_0_and_loads():
     assert shipped.items == wrs.task1(0).items and shipped.prior == wrs.task1(0).prior
     drawers = [d.name for d in shipped.deposits if d.drawer]
     assert drawers == ["drawer-left", "drawer-bottom", "drawer-top"]
-    assert {d.category for d in shipped.deposits} == {*wrs.TASK1_CATEGORIES, "unknown"}
+    assert {d.category for d in shipped.deposits} == {*wrs.TASK1_CATEGORIES, "unknown", "orientation"}
+    box = next(d for d in shipped.deposits if d.category == "orientation")
+    assert box.name == "container-b" and box.container == (0.095, 0.095, 0.105)
+
+
+def test_task1_rooms_hold_the_four_orientation_items_each_fitting_where_it_lies(task1_rooms):
+    for seed, s in task1_rooms.items():
+        oriented = {i.name: i for i in s.items if i.orientation is not None}
+        assert sorted(oriented) == ["fork", "marker-large", "marker-small", "spoon"], seed
+        assert {i.category for i in oriented.values()} == {"tool", "kitchen"}
+        assert not any(i.unknown for i in oriented.values())
+        for i in oriented.values():
+            length = max(i.sx, i.sy)
+            assert length >= 0.1 and abs(i.orientation.axis[0 if i.sx > i.sy else 1]) == 1.0
+            for o in s.items:
+                if o is not i and o.on == i.on:
+                    apart = abs(i.x - o.x) >= (i.sx + o.sx) / 2 or abs(i.y - o.y) >= (i.sy + o.sy) / 2
+                    assert apart, (seed, i.name, o.name)
 
 
 def test_task1_rooms_write_and_read_back(tmp_path, task1_rooms):

@@ -97,3 +97,11 @@ def test_wrs_a_killed_run_scores_what_it_deposited_so_far():
     for e in [_start(), _take("a", 10), _deliver("a", 20), _take("b", 30)]:
         tally.see(e)
     assert tally.score() == 20
+
+
+def test_wrs_an_orientation_item_standing_the_right_way_earns_10_more():
+    events = [_start(), _take("a", 10), _deliver("a", 20), _take("b", 30), _deliver("b", 40)]
+    standing = {**_end(), "standing": ["banana"]}
+    assert wrs_score([*events, standing]) == 2 * 20 + 10 + 50
+    # counted for objects deposited in time only: none deposited, none counted
+    assert wrs_score([_start(), {**_end(), "standing": ["banana"]}]) == 0

@@ -26,6 +26,11 @@ FLOOR = "floor"
 # What the detector reports an unknown object as (WRS Task 1: one per category, no recognition
 # data): the deposits for it accept this category (bin B); its true category only the referee holds
 UNKNOWN = "unknown"
+# The deposits' category for orientation items (WRS Task 1's container B: the markers tip down, the
+# fork and the spoon handle up): an item with an ``orientation`` may go there whatever its
+# category, and stands the right way when its axis is within STAND_DEG of straight down
+ORIENTATION = "orientation"
+STAND_DEG = 30.0
 # A drawer (the WRS stairs-like drawer's): 12 mm boards for its bottom, sides, back and front; 5 mm
 # of play around it in its slot; the grip of the WRS suction handle, 3.5 cm out from the front,
 # 6 cm across, 3 cm high (RoboCup 2021 DSPL rules: a grip of about 6 x 3.5 x 3 cm)
@@ -78,7 +83,9 @@ class Deposit:
     """Where objects of ``category`` go: the place (x, y, z), and where the robot stands to put
     them there (``approach``; None lets the caller find a free cell near the place). With a
     ``drawer`` the place is the centre of the open drawer's floor, and the robot pulls the
-    handle from the approach too."""
+    handle from the approach too. With a ``container`` (its outer x, y and height, m) the deposit
+    is an open box of that size standing on the surface at the place (WRS containers A and B);
+    without either it is a tray there, or the inside of a bin whose rim is at the place."""
 
     name: str
     category: str
@@ -87,6 +94,22 @@ class Deposit:
     z: float
     approach: tuple[float, float] | None = None
     drawer: DrawerSpec | None = None
+    container: tuple[float, float, float] | None = None
+
+    def takes(self, item: Item) -> bool:
+        """Is ``item`` put away here, by the rulebook: a deposit of its label's category, or one for
+        orientation items where it is one (in its category's deposit it scores the category too)."""
+        return self.category == item.label or (self.category == ORIENTATION and item.orientation is not None)
+
+
+@dataclass(frozen=True, slots=True)
+class Orientation:
+    """How an orientation item stands the right way: ``axis`` in the item's own frame (the axes
+    of its ``size``), pointing to the end that goes down, which ``down`` names ("tip" for a
+    marker; a fork stands handle up, so its "tines" go down)."""
+
+    axis: tuple[float, float, float]
+    down: str
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,6 +126,7 @@ class Item:
     sy: float = ITEM_SIZE[1]
     sz: float = ITEM_SIZE[2]
     unknown: bool = False  # an unknown object: seen as UNKNOWN, its category the referee's alone
+    orientation: Orientation | None = None  # an orientation item: which way it must stand
 
     @property
     def label(self) -> str:

@@ -29,6 +29,7 @@ from sim.scenario.model import (
     FLOOR,
     ITEM_SIZE,
     NAME_RE,
+    ORIENTATION,
     SCHEMA,
     UNKNOWN,
     Deposit,
@@ -37,6 +38,7 @@ from sim.scenario.model import (
     Expect,
     Furniture,
     Item,
+    Orientation,
     Robot,
     Scenario,
     ScenarioError,
@@ -136,6 +138,7 @@ class _Reader(FieldReader):
         self._drawers(parsed, furniture, robot or Robot())
         expect = self._expect(doc, parsed)
         prior = self._prior(doc, parsed)
+        self._fillable(parsed, prior)
         facts = self._facts(doc)
         if self.messages:
             raise ScenarioError(self.messages)
@@ -158,7 +161,7 @@ class _Reader(FieldReader):
         return Furniture(name, center[0], center[1], size[0], size[1], height, kind)
 
     def _deposit(self, where: str, t: dict, bounds: tuple | None) -> Deposit | None:
-        self.keys(t, where, ("name", "category", "position", "approach", "drawer"))
+        self.keys(t, where, ("name", "category", "position", "approach", "drawer", "container"))
         name = self.string(t, where, "name", name=True)
         category = self.string(t, where, "category", name=True)
         pos = self.vector(t, where, "position", "[x, y, z]")
@@ -170,9 +173,12 @@ class _Reader(FieldReader):
         drawer = self._drawer(f"{where}.drawer", t["drawer"]) if "drawer" in t else ()
         if drawer and approach == ():
             self.error(f"{where}.approach", "missing required key (a drawer is pulled open from there)")
-        if None in (name, category, pos, approach, drawer):
+        container = self.vector(t, where, "container", "[sx, sy, height]", default=(), positive=True)
+        if container and drawer:
+            self.error(f"{where}.container", "a deposit is a drawer or a container, not both")
+        if None in (name, category, pos, approach, drawer, container):
             return None
-        return Deposit(name, category, *pos, approach or None, drawer or None)
+        return Deposit(name, category, *pos, approach or None, drawer or None, container or None)
 
     def _drawer(self, where: str, t: Any) -> DrawerSpec | None:
         """[deposit.drawer]: the drawer a deposit's objects go into; every key optional."""
@@ -189,7 +195,7 @@ class _Reader(FieldReader):
         return DrawerSpec(closed, **values) if len(self.messages) == before else None
 
     def _item(self, where: str, t: dict, bounds: tuple | None) -> Item | None:
-        self.keys(t, where, ("name", "category", "position", "on", "size", "unknown"))
+        self.keys(t, where, ("name", "category", "position", "on", "size", "unknown", "orientation"))
         name = self.string(t, where, "name", name=True)
         category = self.string(t, where, "category", name=True)
         pos = self.vector(t, where, "position", "[x, y]")
@@ -201,9 +207,29 @@ class _Reader(FieldReader):
             self.error(f"{where}.unknown", f"must be true or false, got {unknown!r}")
         if category == UNKNOWN:
             self.error(f"{where}.category", f"the true category, not {UNKNOWN!r}: say unknown = true")
-        if None in (name, category, pos, on, size) or not isinstance(unknown, bool):
+        orientation = self._orientation(f"{where}.orientation", t["orientation"]) if "orientation" in t else ()
+        if None in (name, category, pos, on, size, orientation) or not isinstance(unknown, bool):
             return None
-        return Item(name, category, pos[0], pos[1], on, *size, unknown=unknown)
+        return Item(name, category, pos[0], pos[1], on, *size, unknown=unknown, orientation=orientation or None)
+
+    def _orientation(self, where: str, t: Any) -> Orientation | None:
+        """[item.orientation]: the axis (in the item's own frame) to the end that goes down, and
+        that end's name."""
+        if not isinstance(t, dict):
+            self.error(where, f"must be a table ([item.orientation]), got {t!r}")
+            return None
+        self.keys(t, where, ("axis", "down"))
+        before = len(self.messages)
+        if "axis" not in t:
+            self.error(f"{where}.axis", "missing required key (which way, in the item's frame, its down end lies)")
+        axis = self.vector(t, where, "axis", "[x, y, z]", default=None)
+        if axis is not None and max(abs(v) for v in axis) == 0:
+            self.error(f"{where}.axis", "must not be [0, 0, 0]: it points to the end that goes down")
+        down = self.string(t, where, "down", name=True)
+        if len(self.messages) > before:
+            return None
+        norm = sum(v * v for v in axis) ** 0.5
+        return Orientation(tuple(v / norm for v in axis), down)
 
     def _viewpoint(self, where: str, t: dict, bounds: tuple | None) -> Viewpoint | None:
         self.keys(t, where, ("name", "position"))
@@ -224,7 +250,8 @@ class _Reader(FieldReader):
                 if UNKNOWN not in accepted:
                     self.error(f"{label}.unknown", f"an unknown object, and no deposit accepts {UNKNOWN!r}")
             elif isinstance(category, str) and NAME_RE.fullmatch(category) and category not in accepted:
-                self.error(f"{label}.category", f"no deposit accepts category {category!r}")
+                if not ("orientation" in t and ORIENTATION in accepted):
+                    self.error(f"{label}.category", f"no deposit accepts category {category!r}")
         for label, _, item in parsed["item"]:
             if item is None:
                 continue
@@ -236,6 +263,20 @@ class _Reader(FieldReader):
             for f in furniture.values() if item.on == FLOOR else ():
                 if overlap(item.box(), f.box()):
                     self.error(where, f"on the floor but overlaps furniture {f.name!r}")
+
+    def _fillable(self, parsed: dict[str, list], prior: tuple | None) -> None:
+        """A deposit of a category that no item has, nor the prior names, can never be filled:
+        a misspelt category, most likely (checked where the file names items or a prior)."""
+        items = [i for _, _, i in parsed["item"] if i is not None]
+        if not items and not prior:
+            return
+        can = {i.label for i in items} | {c for c, _ in prior or ()}
+        if any(i.orientation is not None for i in items):
+            can.add(ORIENTATION)
+        for label, _, d in parsed["deposit"]:
+            if d is not None and d.category not in can:
+                what = "no item is of it" + (", nor does the prior name it" if prior else "")
+                self.error(f"{label}.category", f"nothing can fill a deposit of {d.category!r}: {what}")
 
     def _drawers(self, parsed: dict[str, list], furniture: dict[str, Furniture], robot: Robot) -> None:
         """A drawer must slide out of a furniture piece, fit it, and open clear of the robot; the

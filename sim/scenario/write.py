@@ -44,6 +44,7 @@ def dumps(s: Scenario) -> str:
         lines += ["", "[[deposit]]", f"name = {_str(d.name)}", f"category = {_str(d.category)}"]
         lines += [f"position = {_list((d.x, d.y, d.z))}"]
         lines += [f"approach = {_list(d.approach)}"] if d.approach is not None else []
+        lines += [f"container = {_list(d.container)}"] if d.container is not None else []
         if d.drawer is not None:
             spec = d.drawer
             lines += ["", "[deposit.drawer]", f"closed = {str(spec.closed).lower()}"]
@@ -59,6 +60,9 @@ def dumps(s: Scenario) -> str:
             f"size = {_list((i.sx, i.sy, i.sz))}",
         ]
         lines += ["unknown = true"] if i.unknown else []
+        if i.orientation is not None:
+            o = i.orientation
+            lines += [f"orientation = {{ axis = {_list(o.axis)}, down = {_str(o.down)} }}"]
     return "\n".join(lines) + "\n"
 
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from sim.scenario.model import ORIENTATION
 from tidyplan.belief.geometry import MapFacts, deposit_waypoint
 from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import COST, GOAL, VOCABULARY
@@ -117,6 +118,19 @@ def focus(facts: MapFacts, belief: Belief, goal: Sequence[str]) -> tuple[MapFact
     return part, keep
 
 
+def goal_atoms(belief: Belief, goal: Sequence[str], domain: m.Domain | None) -> tuple:
+    """The goal's atoms: (tidied ITEM) for an item; for a drawer deposit's name, that drawer
+    open, (not (closed DRAWER)) (the WRS rulebook rewards opening every drawer), where the domain
+    has drawers that close."""
+    drawers = {d.name for d in belief.scenario.deposits if d.drawer is not None}
+    closes = domain is None or domain.predicate("closed") is not None
+    return tuple(
+        m.Not(m.Atom("closed", (g,))) if g in drawers else m.Atom(GOAL, (g,))
+        for g in goal
+        if g not in drawers or closes
+    )
+
+
 def write(
     belief: Belief,
     facts: MapFacts,
@@ -143,9 +157,11 @@ def write(
     atoms: list[tuple[str, ...]] = [("robot-at", robot_wp)]
     values: list[tuple[str, tuple[str, ...], float]] = []
     atoms.append(("holding", belief.holding) if belief.holding else ("hand-empty",))
+    oriented = any(d.category == ORIENTATION for d in deposits)
     for k in seen:
         if k.name not in belief.undeliverable:
-            atoms.append(("of-category", k.name, k.category))
+            # an orientation item goes into the deposit for them (standing it scores 10 more)
+            atoms.append(("of-category", k.name, ORIENTATION if k.oriented and oriented else k.category))
         if k.state == "placed" and k.name in facts.grasp:
             atoms += [("item-at", k.name, facts.grasp[k.name]), ("located", k.name)]
         elif k.state == "held":
@@ -188,7 +204,7 @@ def write(
         init=tuple(m.Atom(a[0], a[1:]) for a in dict.fromkeys(atoms)),
         values=((m.FunctionTerm(COST, ()), 0.0),) * has_costs
         + tuple((m.FunctionTerm(f, args), x) for f, args, x in values),
-        goal=m.And(tuple(m.Atom(GOAL, (g,)) for g in goal)),
+        goal=m.And(goal_atoms(belief, goal, domain)),
         metric=("minimize", m.FunctionTerm(COST, ())) if has_costs else None,
     )
     header = (

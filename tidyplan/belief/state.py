@@ -69,6 +69,7 @@ class Known:
     misses: int = 0
     deposit: str | None = None
     spread: float = 0.0  # m it may lie from (x, y): 0 where seen; more where it fell unseen
+    oriented: bool = False  # an orientation item (the detector reported its down end)
 
     def placed(self) -> Placed:
         return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0)
@@ -86,6 +87,9 @@ class Detection:
     sx: float = 0.08
     sy: float = 0.08
     sz: float = 0.10
+    # an orientation item (WRS Task 1's markers, fork and spoon): the direction, in the room, of
+    # the end that must go down; None for any other object
+    down: tuple[float, float, float] | None = None
 
 
 @dataclass(slots=True)
@@ -239,7 +243,7 @@ class Belief:
         if name is None:
             self._serial[d.category] += 1
             name = f"{d.category}-{self._serial[d.category]}"
-        self.items[name] = Known(name, d.category, d.x, d.y, d.on, d.sx, d.sy, d.sz)
+        self.items[name] = Known(name, d.category, d.x, d.y, d.on, d.sx, d.sy, d.sz, oriented=d.down is not None)
         return name
 
     def bumped(self, d: Detection) -> str | None:

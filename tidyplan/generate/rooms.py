@@ -52,7 +52,7 @@ from pathlib import Path
 from string import ascii_lowercase
 
 from sim.grid import Box
-from sim.scenario.model import FLOOR, UNKNOWN, Expect, Furniture, Item, Scenario, ScenarioError
+from sim.scenario.model import FLOOR, UNKNOWN, Expect, Furniture, Item, Orientation, Scenario, ScenarioError
 from sim.scenario.read import load
 from sim.scenario.write import dumps
 from tidyplan.loop.scenarios import project_file
@@ -105,6 +105,17 @@ TASK1_ZONES = (
     Zone("long-table", "long-table", (-0.45, -0.2), (-0.35, 0.7), 10),
     Zone("tall-table", "tall-table", (-0.45, -0.2), (1.0, 1.35), 5),
 )
+
+# Task 1's orientation items (the rulebook: the small and large marker tip down, among the tools;
+# the fork and the spoon handle up, among the kitchen items): name, category, length, width, height
+# (m, our figures near the YCB objects), and the end that goes down in container B
+ORIENTATION_ITEMS = (
+    ("marker-large", "tool", 0.121, 0.020, 0.020, "tip"),
+    ("marker-small", "tool", 0.100, 0.016, 0.016, "tip"),
+    ("fork", "kitchen", 0.200, 0.025, 0.015, "tines"),
+    ("spoon", "kitchen", 0.200, 0.040, 0.015, "bowl"),
+)
+ORIENTATION_GAP = 0.02  # m between an orientation item's footprint and another object's
 
 
 class SpawnError(Exception):
@@ -205,6 +216,7 @@ def task1(seed: int, base: Scenario | None = None) -> Scenario:
             n += 1
         else:
             items.append(i)
+    items = _orientation_items(rng, items, {f.name: f for f in base.furniture})
     name = file_name("task1", seed).removesuffix(".toml")
     counts = {c: TASK1_KNOWN for c in TASK1_CATEGORIES} | {UNKNOWN: len(TASK1_CATEGORIES)}
     return replace(
@@ -221,6 +233,48 @@ def task1(seed: int, base: Scenario | None = None) -> Scenario:
         path="",
         prior=tuple(sorted(counts.items())),
     )
+
+
+def _orientation_items(rng, items: list[Item], pieces: dict[str, Furniture]) -> list[Item]:
+    """Four of the known objects made Task 1's orientation items, where they lie: a marker or a
+    fork is long and thin, lying along x or y (drawn), its down end at either end (drawn), where
+    that keeps its footprint on what it lies on and ORIENTATION_GAP from every other object (and,
+    on the floor, FLOOR_GAP from the furniture); the candidates of its category in drawn order."""
+    out = list(items)
+    for name, category, length, width, height, down in ORIENTATION_ITEMS:
+        candidates = [k for k, i in enumerate(out) if i.category == category and not i.unknown and i.orientation is None]
+        rng.shuffle(candidates)
+        for k in candidates:
+            i = out[k]
+            along_x = rng.random() < 0.5
+            sign = rng.choice((1.0, -1.0))
+            for ax in (along_x, not along_x):
+                size = (length, width, height) if ax else (width, length, height)
+                axis = (sign, 0.0, 0.0) if ax else (0.0, sign, 0.0)
+                made = replace(i, name=name, sx=size[0], sy=size[1], sz=size[2], orientation=Orientation(axis, down))
+                if _fits_among(made, [o for j, o in enumerate(out) if j != k], pieces):
+                    out[k] = made
+                    break
+            else:
+                continue
+            break
+        else:
+            raise SpawnError(f"no room for the orientation item {name!r}")
+    return out
+
+
+def _fits_among(item: Item, others: list[Item], pieces: dict[str, Furniture]) -> bool:
+    box = item.box()
+    if item.on != FLOOR:
+        f = pieces[item.on]
+        if abs(item.x - f.cx) + item.sx / 2 > f.sx / 2 or abs(item.y - f.cy) + item.sy / 2 > f.sy / 2:
+            return False
+    else:
+        grown = Box(item.x, item.y, item.sx + 2 * FLOOR_GAP, item.sy + 2 * FLOOR_GAP, item.name)
+        if any(_overlap(grown, f.box()) for f in pieces.values()):
+            return False
+    grown = Box(item.x, item.y, item.sx + 2 * ORIENTATION_GAP, item.sy + 2 * ORIENTATION_GAP, item.name)
+    return not any(o.on == item.on and _overlap(grown, o.box()) for o in others)
 
 
 # Where a zone's objects go when it is full (rooms at scale only): the open floor of each room,

@@ -21,14 +21,17 @@ Goal = tuple[str, list[str], list[tuple[str, str]]]  # (label, items, virtual ob
 
 
 def goals(belief: Belief, facts: MapFacts) -> list[Goal]:
-    """The goals to try: ``horizon`` (in a room of more than HORIZON items: the HORIZON seen items
+    """The goals to try (item names, and the names of closed drawers to open): ``horizon`` (in a room of more than HORIZON items: the HORIZON seen items
     nearest the robot, those it can drive to now first, then unseen ones up to HORIZON, a few of
     each category); ``all``; ``seen`` (when ``all`` has virtual objects); last the seen items, from
     which the loop keeps those that have a plan on their own (``feasible``: nearest first in a
     room of more than HORIZON items, so the loop can stop once it has HORIZON of them)."""
     seen = [k.name for k in belief.untidied() if k.state == "held" or k.name in facts.grasp]
     virtual = belief.virtual() if belief.p_item_near(facts) else []
-    out: list[Goal] = [("all", seen + [v for v, _ in virtual], virtual)]
+    # the drawers still closed, to be opened (the WRS rulebook's +50 for opening every drawer):
+    # in the whole goal and the horizon, never in the narrower ones, which must not fail for them
+    opens = sorted(d for d in belief.closed if d not in belief.undeliverable)
+    out: list[Goal] = [("all", seen + [v for v, _ in virtual] + opens, virtual)]
     order = seen  # the order feasible items are looked for in
     if len(seen) + len(virtual) > HORIZON:
         here = robot_waypoint(facts, belief)
@@ -45,7 +48,7 @@ def goals(belief: Belief, facts: MapFacts) -> list[Goal]:
         near = order[:HORIZON]
         by_number = sorted(virtual, key=lambda v: (int(v[0].rsplit("-", 1)[1]), v[1]))
         some = by_number[: HORIZON - len(near)]
-        out.insert(0, ("horizon", near + [v for v, _ in some], some))
+        out.insert(0, ("horizon", near + [v for v, _ in some] + opens, some))
     if virtual:
         out.append(("seen", seen, []))
     return out + [("feasible", order, [])]

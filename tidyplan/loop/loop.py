@@ -94,7 +94,8 @@ class Mission:
         self.count = Counters()
         self.snapshot: Snapshot | None = None
         self.steps: list[Step] = []
-        self.goal: list[str] = []  # the adopted plan's goal items
+        self.goal: list[str] = []  # the adopted plan's goal: items, and drawers to open
+        self._drawers = {d.name for d in self.belief.scenario.deposits if d.drawer is not None}
         self.goal_kind: str | None = None  # and which goal it was (monitor.goals)
         self.pending: list[Step] = []  # assumptions passed in the plan, not yet confirmed
         self.bound: dict[str, str] = {}  # virtual object -> seen item
@@ -155,7 +156,11 @@ class Mission:
         if escaped:  # the simulation's fault, not the robot's: reported, never counted as lost
             self.trace.emit("sim_fault", what="objects outside the room", items=escaped)
         places, wrong = referee_view(self.referee)
-        self.trace.emit("end", success=success, reason=reason, items=places, escaped=escaped, misplaced=wrong)
+        # orientation items standing the right way in their box: the score's orientation points
+        standing = self.referee.standing()
+        self.trace.emit(
+            "end", success=success, reason=reason, items=places, escaped=escaped, misplaced=wrong, standing=standing
+        )
         return Outcome(success, reason, self.count)
 
     def _tick(self) -> Ending | None:
@@ -191,6 +196,7 @@ class Mission:
             if times >= self.config.max_same_failure:
                 failed = f"{step.text} failed ({report.failure}) {times} times, each after its recoveries"
                 item = next((a for a in step.args if a in self.belief.items), None)
+                item = item or next((a for a in step.args if a in self.belief.closed), None)
                 if item is None:
                     return failed
                 self._give_up(item, failed)
@@ -209,7 +215,11 @@ class Mission:
             if not report.ok:
                 why += f" after {step.text} failed ({report.failure})"
             return self._replan(Cause.PRECONDITION, why)
-        if broken is not None or not all(("tidied", g) in end or g in done for g in self.goal):
+        reached = all(
+            ("closed", g) not in end if g in self._drawers else ("tidied", g) in end or g in done
+            for g in self.goal
+        )
+        if broken is not None or not reached:
             why = (
                 f"step {broken} {self.steps[broken].text} fails" if broken is not None else "goal not reached"
             )

@@ -1,7 +1,9 @@
 """The WRS Tidy Up score of a mission, counted from its trace events as the RoboCup 2021 DSPL
 rulebook (written with the WRS committee; docs/sources.md) counts a run of Task 1:
 
-- 10 points per object inside a deposit, +10 when the deposit is of the object's category;
+- 10 points per object inside a deposit, +10 when the deposit is of the object's category (an
+  orientation item's category, or the deposit for orientation items), +10 for an orientation
+  item standing the right way in the deposit for them (the referee's ``standing``);
 - +50 when every object is put away within the time limit (15 minutes; a delivery after it
   scores nothing: the referee has stopped the run);
 - +50 for opening every drawer of the room without help (by the robot, within the time limit);
@@ -10,8 +12,7 @@ rulebook (written with the WRS committee; docs/sources.md) counts a run of Task 
 - no points until one object is in a deposit; arriving at a deposit with nothing in hand
   scores nothing (neither happens as a deduction).
 
-The orientation bonus (+10 for an orientation item standing the right way) is not counted: no
-world models an object's orientation yet. docs/trace.md has a worked example.
+docs/trace.md has a worked example.
 
 One tally reads the events as they happen (the mission's summary) or from a trace file
 (``tidyplan.trace.read.summarise``, a killed run too), so the two figures agree by construction.
@@ -25,6 +26,7 @@ from tidyplan.trace.events import delivers
 TIME_LIMIT_S = 15 * 60.0  # WRS 2020 / RoboCup 2021 DSPL rulebook: task 1 (tidy up) has 15 minutes
 DEPOSIT_POINTS = 10.0
 CATEGORY_POINTS = 10.0
+ORIENTATION_POINTS = 10.0
 ALL_PUT_AWAY_POINTS = 50.0
 DRAWERS_POINTS = 50.0
 
@@ -37,7 +39,8 @@ class WrsTally:
     next object deposited after a drop has its points halved, unless it is the one that fell.
     Whether a deposit is of the right category is the referee's verdict in the ``end`` event
     (``misplaced``: tidied into another category's deposit), since the belief's name of a
-    delivered object does not say which true object it was. The room's drawers are the ``start``
+    delivered object does not say which true object it was; so is the orientation (``standing``),
+    at most one per object deposited in time. The room's drawers are the ``start``
     event's ``drawers``; a drawer is opened by an action that ran the ``pull_handle`` unit."""
 
     def __init__(self, time_limit_s: float = TIME_LIMIT_S) -> None:
@@ -49,6 +52,7 @@ class WrsTally:
         self.drawers: set[str] = set()
         self.opened: set[str] = set()  # drawers the robot opened within the limit
         self.misplaced = 0
+        self.standing = 0
         self.ended_well = False
 
     def see(self, e: dict) -> None:
@@ -75,12 +79,14 @@ class WrsTally:
         elif kind == "end":
             self.objects = len(e.get("items") or {}) or self.objects
             self.misplaced = len(e.get("misplaced") or [])
+            self.standing = len(e.get("standing") or [])
             self.ended_well = bool(e.get("success"))
 
     def score(self) -> float:
         if not self.in_time:
             return 0.0  # no points until one object is in a deposit
         points = sum(self.in_time) - CATEGORY_POINTS * min(self.misplaced, len(self.in_time))
+        points += ORIENTATION_POINTS * min(self.standing, len(self.in_time))
         everything = self.objects is not None and len(self.in_time) >= self.objects
         if self.ended_well and everything and not self.misplaced:
             points += ALL_PUT_AWAY_POINTS

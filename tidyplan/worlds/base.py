@@ -48,18 +48,27 @@ class WorldReferee:
         self.fp = s.false_positive if rates.false_positive is None else rates.false_positive
         self.rates = rates
         self.items = {
-            i.name: TrueItem(i.name, i.category, i.x, i.y, i.on, i.sx, i.sy, i.sz, label=i.label)
+            i.name: TrueItem(
+                i.name, i.category, i.x, i.y, i.on, i.sx, i.sy, i.sz, label=i.label, orientation=i.orientation
+            )
             for i in scenario.items
         }
         self.holding: str | None = None
 
     def untidied(self) -> list[str]:
         """Items not in a deposit of their category (an unknown object's: the deposits for
-        unknown objects, as the rulebook counts it)."""
-        cat = {d.name: d.category for d in self.scenario.deposits}
+        unknown objects; an orientation item's: those for orientation items too, as the rulebook
+        counts it)."""
+        deposits = {d.name: d for d in self.scenario.deposits}
         return sorted(
-            o.name for o in self.items.values() if o.state != "tidied" or cat.get(o.deposit or "") != o.label
+            o.name
+            for o in self.items.values()
+            if o.state != "tidied" or o.deposit not in deposits or not deposits[o.deposit].takes(o)
         )
+
+    def standing(self) -> list[str]:
+        """Orientation items standing the right way in a deposit for orientation items."""
+        return sorted(n for n, o in self.items.items() if o.state == "tidied" and o.stands)
 
     def where(self, name: str) -> tuple[str, Point]:
         o = self.items[name]
@@ -83,9 +92,13 @@ class WorldReferee:
         out = []
         for o in sorted(self.items.values(), key=lambda o: o.name):
             if o.state == "tidied" and o.deposit == deposit and self.rng.random() >= self.fn:
-                out.append(Detection(o.label, o.x, o.y, o.on, o.sx, o.sy, o.sz))
+                out.append(self._seen(o))
         self.odometer.sim_time_s += LOOK_INTO_S
         return out
+
+    def _seen(self, o: TrueItem) -> Detection:
+        """What the detector reports of ``o`` where it is (the pybullet world turns its axis too)."""
+        return o.seen(o.x, o.y)
 
     def close(self) -> None:
         """Release what the world holds (a physics server); nothing here."""

@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
+from sim.scenario.model import Orientation
 from tidyplan.belief.geometry import RoomMap
 from tidyplan.belief.state import Detection
 
@@ -33,9 +34,20 @@ class TrueItem:
     deposit: str | None = None
     label: str = ""  # what the detector reports and the deposits go by (UNKNOWN for an unknown
     # object, whose category only the referee holds); its category where not given
+    orientation: Orientation | None = None  # an orientation item's axis (its own frame) and down end
+    stands: bool | None = None  # put into an orientation deposit: standing the right way there
 
     def __post_init__(self) -> None:
         self.label = self.label or self.category
+
+    def seen(self, x: float, y: float, axis: tuple[float, float, float] | None = None) -> Detection:
+        """What the detector reports of it, seen at (x, y): its label, its box, and an orientation
+        item's axis to its down end in the room's frame (``axis``; as it lies in its own frame,
+        axis-aligned, where not given)."""
+        if self.orientation is not None and axis is None:
+            axis = self.orientation.axis
+        down = None if self.orientation is None else tuple(round(v, 3) for v in axis)
+        return Detection(self.label, x, y, self.on, self.sx, self.sy, self.sz, down)
 
 
 @dataclass(frozen=True, slots=True)
@@ -124,6 +136,10 @@ class Referee(Protocol):
     def where(self, name: str) -> tuple[str, Point]: ...
 
     def escaped(self) -> list[str]: ...
+
+    def standing(self) -> list[str]:
+        """Orientation items standing the right way in a deposit for orientation items."""
+        ...
 
     def close(self) -> None: ...
 

@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 
 from sim.grid import Box
-from sim.scenario.model import DrawerLayout, Scenario, drawer_layout
+from sim.scenario.model import ORIENTATION, DrawerLayout, Scenario, drawer_layout
 from sim.visibility import Box3, visible
 from tidyplan.belief.geometry import GRASP_MAX, RoomMap, free_spots
 from tidyplan.belief.state import Detection
@@ -78,7 +78,7 @@ class SymbolicWorld(WorldReferee):
             z = self._base_z(it) + it.sz / 2
             miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
             if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max) and not miss:
-                out.append(Detection(it.label, it.x, it.y, it.on, it.sx, it.sy, it.sz))
+                out.append(it.seen(it.x, it.y))
         return out + self._phantom()
 
     def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None:
@@ -97,7 +97,7 @@ class SymbolicWorld(WorldReferee):
         if self.rng.random() < self.fn or not found:
             return None
         o = min(found, key=lambda o: (math.dist((o.x, o.y), near), o.name))
-        return Detection(o.label, o.x, o.y, o.on, o.sx, o.sy, o.sz)
+        return o.seen(o.x, o.y)
 
     def holds(self) -> bool:
         """The gripper's sensor (finger angle, wrist force): is something in the hand?"""
@@ -170,13 +170,17 @@ class SymbolicWorld(WorldReferee):
         # them apart (25 places: a deposit of the 96-object room receives 24); in a drawer, in
         # rows across its part out of the carcass, 2 cm apart along the slide
         if drawer is None:
-            item.x, item.y = round(d.x + 0.04 * (k % 5 - 2), 3), round(d.y + 0.04 * (k // 5 % 5 - 2), 3)
+            # a container's lattice shrunk to its inside (container B's is 8.5 cm across)
+            step = 0.04 if d.container is None else min(0.04, (min(d.container[:2]) - 0.01) / 5)
+            item.x, item.y = round(d.x + step * (k % 5 - 2), 3), round(d.y + step * (k // 5 % 5 - 2), 3)
         else:
             x0, x1, y0, y1 = drawer.exposed(self.opened[deposit])
             across, along = 0.04 * (k % 5 - 2), 0.02 * (k // 5 % 3 - 1)
             dx, dy = (along, across) if drawer.k == 0 else (across, along)
             item.x, item.y = round((x0 + x1) / 2 + dx, 3), round((y0 + y1) / 2 + dy, 3)
         item.state, item.deposit, self.holding = "tidied", deposit, None
+        # no poses here: an orientation item stands in its box as the robot puts it, down end first
+        item.stands = True if d.category == ORIENTATION and item.orientation is not None else None
         return self._spend(DELIVER_S)
 
     def put_down(self, spot: Point) -> Outcome:

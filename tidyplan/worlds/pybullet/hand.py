@@ -14,7 +14,8 @@ import pybullet as p
 
 from sim.motion import base_contacts, blocked
 from sim.robot import CARRY, GRIPPER_OPEN, HAND_DOWN, RAISED, REACHED, STOW, TURNS, hand_level
-from sim.room import inside
+from sim.room import holder, inside
+from sim.scenario.model import ORIENTATION
 from tidyplan.worlds.base import TAKE_TOLERANCE, Outcome
 from tidyplan.worlds.pybullet.look import RECOGNISE_S
 from tidyplan.worlds.pybullet.put import PutIn, Spots, Unreached, fits, held_as, stood_up
@@ -22,6 +23,7 @@ from tidyplan.worlds.pybullet.put import PutIn, Spots, Unreached, fits, held_as,
 Point = tuple[float, float]
 
 SETTLE_S = 1.0  # s of physics after a release
+PILED = 0.03  # m: an object whose bottom is this far above a tray's surface lies on something
 ABOVE = 0.05  # m: the hand comes down onto an object from this far above it
 # m the base may slide along the line to where the hand must go (backing off first): the whole-body
 # reach of the HSR, which moves its base where the arm alone cannot keep the hand upright
@@ -79,6 +81,8 @@ class Hand(PutIn):
         pose = p.getBasePositionAndOrientation(body, physicsClientId=self.client)
         size = next((i.sx, i.sy, i.sz) for i in self.scenario.items if i.name == item.name)
         self._held_as, self._stood_up_as = held_as(*hand, *pose, size), stood_up(*hand, *pose, size)
+        axis = None if item.orientation is None else item.orientation.axis
+        self._stood_down_as = None if axis is None else stood_up(*hand, *pose, size, down=axis)
         if self.rng.random() >= self.rates.take:
             seconds += self.hsr.set_joints(above)
             self._release()
@@ -162,7 +166,10 @@ class Hand(PutIn):
         seconds = self.hsr.turn_to(d.x, d.y)
         self._carry_along()
         held_in = self.openings[deposit]
-        if not fits(self._held_as.footprint, held_in):
+        if d.category == ORIENTATION and self._stood_down_as is not None:
+            # an orientation item goes in standing, its down end first: the hand turned so
+            self._held_as = self._stood_down_as
+        elif not fits(self._held_as.footprint, held_in):
             # a tall box that fell over, too long to lie in the deposit (a 0.45 m crate across a
             # 0.35 m bin, a lid that what comes next bounces off): stood on its end in the hand
             stood = self._stood_up_as
@@ -172,11 +179,28 @@ class Hand(PutIn):
         if not out.ok:
             return out
         item = self.items[self._last_released]
-        if inside(held_in, (item.x, item.y)):
+        if inside(held_in, (item.x, item.y)) and not self._off_tray(item.name, d):
             item.state, item.deposit = "tidied", deposit
+            self._judge_stance(item.name)
             return out
         # it bounced off the tray or out of the bin: it lies where physics left it, for perception
         return Outcome(False, "place_missed", out.seconds, 0.0, (item.x, item.y))
+
+    def _off_tray(self, name: str, deposit) -> str | None:
+        """The rulebook's tray rule: an object on a tray that touches the table, or lies piled on
+        another object, is not deposited. Why it is not (None where it is, or no tray)."""
+        if deposit.drawer or deposit.container or holder(self.scenario, deposit) is not None:
+            return None  # a drawer, a container, a bin: any position inside counts
+        body = self.bodies[name]
+        bottom = p.getAABB(body, physicsClientId=self.client)[0][2]
+        for piece in self.scene.furniture.values():
+            if p.getContactPoints(body, piece, physicsClientId=self.client):
+                return "touches the table"
+        for other, b in self.bodies.items():
+            on_it = bottom > deposit.z + PILED
+            if other != name and on_it and p.getContactPoints(body, b, physicsClientId=self.client):
+                return f"piled on {other}"
+        return None
 
     def put_down(self, spot: Point) -> Outcome:
         """Put the held object on the floor at ``spot`` (next to the robot); ``place_fail`` at

@@ -51,7 +51,7 @@ class HeadCamera:
         for it in sorted(self._placed(), key=lambda t: t.name):
             miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
             if it.name in seen and not miss:
-                out.append(Detection(it.label, round(it.x, 3), round(it.y, 3), it.on, it.sx, it.sy, it.sz))
+                out.append(self._seen(it))
         return out + self._phantom()
 
     def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None:
@@ -115,7 +115,7 @@ class HeadCamera:
         if self.rng.random() < self.fn or not seen:
             return None
         o = min((self.items[n] for n in seen), key=lambda o: (math.dist((o.x, o.y), near), o.name))
-        return Detection(o.label, round(o.x, 3), round(o.y, 3), o.on, o.sx, o.sy, o.sz)
+        return self._seen(o)
 
     def _look_at(self, near: Point, surface: float, candidates) -> tuple[set[str], float]:
         """Tilt the head to the place (the base faces it) and recognise; returns what was seen

@@ -16,7 +16,7 @@ import pybullet as p
 
 from sim.motion import TOUCH, contacts
 from sim.robot import REACHED
-from sim.room import BIN_WALL, TRAY, holder, inside
+from sim.room import BIN_WALL, CONTAINER_WALL, TRAY, holder, inside
 
 Point = tuple[float, float]
 
@@ -60,13 +60,17 @@ def held_as(hand_at, hand_orn, centre, orientation, size) -> HeldAs:
     )
 
 
-def stood_up(hand_at, hand_orn, centre, orientation, size) -> HeldAs | None:
+def stood_up(hand_at, hand_orn, centre, orientation, size, down=None) -> HeldAs | None:
     """``HeldAs`` with a lying box stood on its end: the hand turned a quarter about the level
     line across the box's long side (a top grasp on a lying crate becomes the side grasp of the
-    standing crate). None where the long side is not lying."""
-    m = p.getMatrixFromQuaternion(orientation)
-    k = max(range(3), key=lambda i: size[i])
-    u = np.array((m[k], m[3 + k], m[6 + k]))  # the long side's direction
+    standing crate); with ``down`` (a direction in the box's own frame: an orientation item's
+    axis) the turn that puts that end down. None where the long side (or ``down``) is not lying."""
+    m = np.reshape(p.getMatrixFromQuaternion(orientation), (3, 3))
+    if down is None:
+        k = max(range(3), key=lambda i: size[i])
+        u = m[:, k]  # the long side's direction, turned up
+    else:
+        u = -(m @ np.asarray(down, dtype=float))  # the end that goes down, turned down
     if abs(u[2]) > 0.3:
         return None
     across = np.cross((0.0, 0.0, 1.0), u)
@@ -117,9 +121,12 @@ class PutIn:
         above a 0.33 m bin's rim falls 0.35 m and may tip across the bin; lowered until the hand
         nears the rim, it falls 0.15 m and stands in the corner it was put in."""
         tray_top = deposit.z + 0.01
+        hand_height = self._held_as.hand_height  # above the object's bottom
+        if deposit.container is not None:  # an open box on the surface: its rim `height` above it
+            floor, rim = deposit.z + CONTAINER_WALL, deposit.z + deposit.container[2]
+            return max(floor, rim + ABOVE_RIM - hand_height - 0.015)
         if holder(self.scenario, deposit) is None:
             return tray_top
-        hand_height = self._held_as.hand_height  # above the object's bottom
         return min(tray_top, max(BIN_WALL, deposit.z + ABOVE_RIM - hand_height - 0.015))
 
     def _pose_to_let_go(self, spots: Spots, surface_z: float) -> tuple[dict, float] | None:

@@ -30,9 +30,10 @@ from sim.camera import Camera
 from sim.motion import TOUCH, base_contacts, blocked, contacts, settle
 from sim.robot import RAISED, STOW
 from sim.room import build, inside, opening
-from sim.scenario.model import Scenario
+from sim.scenario.model import ORIENTATION, STAND_DEG, Scenario
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.worlds.base import Odometer, Outcome, Rates, WorldReferee
+from tidyplan.belief.state import Detection
+from tidyplan.worlds.base import Odometer, Outcome, Rates, TrueItem, WorldReferee
 from tidyplan.worlds.pybullet.drawer import Drawers
 from tidyplan.worlds.pybullet.hand import SETTLE_S, Hand
 from tidyplan.worlds.pybullet.look import HeadCamera
@@ -84,6 +85,7 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
         # how the hand holds what it holds, to put it down as it stood, or stood on its end
         self._held_as = HeldAs((0.0, 0.0, 0.0, 1.0), 0.0, 0.0, 0.0, (0.0, 0.0))
         self._stood_up_as: HeldAs | None = None
+        self._stood_down_as: HeldAs | None = None  # an orientation item stood on its down end
         self.knocked: list[str] = []  # tidied objects a release or a fall knocked out of their deposit
         self._pan_forward = True  # sweeps alternate direction: no return swing
         x, y, _ = self.hsr.base()
@@ -201,6 +203,31 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
             if item.state == "tidied" and not inside(self.openings[item.deposit], (item.x, item.y)):
                 item.state, item.deposit = "placed", None
                 self.knocked.append(name)
+            self._judge_stance(name)
+
+    def _seen(self, o: TrueItem) -> Detection:
+        """What the detector reports of ``o``: an orientation item's down end as it lies now."""
+        return o.seen(round(o.x, 3), round(o.y, 3), self._down(o.name))
+
+    def _down(self, name: str) -> tuple[float, float, float] | None:
+        """The direction in the room of an orientation item's down end (None for other objects)."""
+        o = self.items[name]
+        if o.orientation is None:
+            return None
+        orn = p.getBasePositionAndOrientation(self.bodies[name], physicsClientId=self.client)[1]
+        m = np.reshape(p.getMatrixFromQuaternion(orn), (3, 3))
+        return tuple(float(v) for v in m @ np.asarray(o.orientation.axis))
+
+    def _judge_stance(self, name: str) -> None:
+        """The rulebook's orientation, from the object's pose: in a deposit for orientation items,
+        its down end within STAND_DEG of straight down."""
+        o = self.items[name]
+        d = next((d for d in self.scenario.deposits if d.name == o.deposit), None)
+        down = self._down(name)
+        if o.state != "tidied" or d is None or d.category != ORIENTATION or down is None:
+            o.stands = None
+            return
+        o.stands = -down[2] >= math.cos(math.radians(STAND_DEG))
 
     def _sync(self, name: str) -> None:
         """The truth of one object from pybullet: where it rests and on what."""
