@@ -25,13 +25,13 @@
 ;; Probabilities are the success rates of the manipulation actions; moves are taken
 ;; as certain.
 ;;
-;; Static facts a problem provides: path, distance, blocks, pose-adjustment,
+;; Static facts a problem provides: path, distance, blocks, blocks-pull, pose-adjustment,
 ;; removal-waypoint, deposit-at, of-category, accepts, unexplored, p-item-near, and
 ;; (shortest-paths) when no route via other waypoints is shorter than an open direct path
 ;; (nor joins two waypoints without one): moves then only go where the robot takes,
 ;; delivers, drops or adjusts. Leave it out where the path graph is sparse.
 ;; Dynamic: robot-at, hand-empty, holding, item-at, blocked, tidied, must-move-back,
-;; located, closed.
+;; located, closed, pull-blocked.
 ;; Execution: each action names the behaviour units that run it (:units, docs/dialect.md);
 ;; `tidyplan check` lists the units the worlds offer.
 ;; open_drawer is in stratum 1, not 2 or 3: opening a closed drawer is part of delivering
@@ -71,6 +71,8 @@
     (must-move-back)                             ; set by drop_object until move_back
     (located ?o - item)                          ; where ?o lies is known or assumed
     (closed ?d - deposit)                        ; a drawer not open: nothing goes in
+    (pull-blocked ?d - deposit)                  ; a floor item lies where the base backs off to pull ?d open
+    (blocks-pull ?o - item ?d - deposit)         ; static: ?o is that item
     (unexplored ?w - waypoint)                   ; nobody has looked around from ?w yet
     (shortest-paths))                            ; static: no detour beats a direct open path
 
@@ -128,6 +130,9 @@
                  ;; picking up a floor obstruction frees the paths it blocked
                  (forall (?a ?b - waypoint)
                    (when (blocks ?o ?a ?b) (not (blocked ?a ?b))))
+                 ;; and the way the base backs off to pull a drawer open
+                 (forall (?d - deposit)
+                   (when (blocks-pull ?o ?d) (not (pull-blocked ?d))))
                  (increase (total-cost) 1)))
 
   (:action deliver_it
@@ -146,13 +151,16 @@
                  (not (holding ?o))
                  (increase (total-cost) 1)))
 
-  ;; A drawer is pulled open by its handle from where items are put into it, the hand free.
+  ;; A drawer is pulled open by its handle from where items are put into it, the hand free: the
+;; base backs off along the slide as the drawer comes out, so a floor item in that way must be
+;; taken first (pull-blocked, as a blocked path is for a move).
   (:action open_drawer
     :parameters (?d - deposit ?w - waypoint)
     :stratum 1
     :probability 0.95
     :units ((approach_handle ?w) (pull_handle ?d))
-    :precondition (and (robot-at ?w) (deposit-at ?d ?w) (closed ?d) (hand-empty))
+    :precondition (and (robot-at ?w) (deposit-at ?d ?w) (closed ?d) (hand-empty)
+                       (not (pull-blocked ?d)))
     :effect (and (not (closed ?d))
                  (increase (total-cost) 1)))
 

@@ -18,15 +18,18 @@ Facts, from the belief and the map (``tidyplan.belief.geometry``):
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from sim.scenario.model import ORIENTATION
+from sim.scenario.model import ORIENTATION, drawer_layout
 from tidyplan.belief.geometry import MapFacts, deposit_waypoint
 from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import COST, GOAL, VOCABULARY
 from tidyplan.pddl import model as m
 from tidyplan.pddl.writer import problem_text
+
+Point = tuple[float, float]
 from tidyplan.planning.removal import Waypoint, removal_waypoint
 
 NOT_FOR_REMOVAL = ("grasp", "deposit", "adjust", "robot")
@@ -90,13 +93,14 @@ def removal_choices(facts: MapFacts, belief: Belief, robot_wp: str) -> dict[str,
 
 def focus(facts: MapFacts, belief: Belief, goal: Sequence[str]) -> tuple[MapFacts, set[str]]:
     """The part of the map a problem for ``goal`` needs, and the seen items it keeps: the goal's
-    items, the one in the hand, and, until nothing changes, every item that blocks a way between
-    the waypoints kept (P3 may have to move it). Other items' waypoints and ways are left out:
+    items, the one in the hand, the items in the way of a closed drawer's pull, and, until nothing
+    changes, every item that blocks a way between the waypoints kept (P3 may have to move it). Other items' waypoints and ways are left out:
     in a room of 48 items they made most of the problem, and a plan for a dozen never used them."""
     robot_wp = robot_waypoint(facts, belief)
     fixed = {n for n, k in facts.kind.items() if k in ("entrance", "viewpoint", "deposit", "robot")}
     fixed |= {n + "-base" for n in fixed if n + "-base" in facts.points} | {robot_wp}
     keep = {g for g in goal if g in facts.grasp} | ({belief.holding} if belief.holding else set())
+    keep |= {o for who in pull_blockers(belief).values() for o in who if o in facts.grasp}
     while True:
         wps = fixed | {facts.grasp[i] for i in keep if i in facts.grasp}
         wps |= {w + "-base" for w in wps if w + "-base" in facts.points}
@@ -116,6 +120,38 @@ def focus(facts: MapFacts, belief: Belief, goal: Sequence[str]) -> tuple[MapFact
         reach_blockers={w: who for w, who in facts.reach_blockers.items() if w in wps},
     )
     return part, keep
+
+
+def pull_blockers(belief: Belief) -> dict[str, list[str]]:
+    """For each closed drawer, the believed floor items in the way the base backs off along the
+    slide while it pulls the drawer out (from the approach, the drawer's travel; the base's
+    radius and its margin either side): the pull would stop at them."""
+    robot = belief.scenario.robot
+    keep = robot.radius + robot.nav_margin
+    out: dict[str, list[str]] = {}
+    for d in belief.scenario.deposits:
+        layout = drawer_layout(belief.scenario.furniture, d) if d.name in belief.closed else None
+        if layout is None:
+            continue
+        a = d.approach
+        b = layout.point(layout.out(a) + layout.spec.travel, a[1 - layout.k])
+        who = [
+            k.name
+            for k in belief.placed()
+            if k.on_floor and _near_segment(k, a, b, keep)
+        ]
+        if who:
+            out[d.name] = sorted(who)
+    return out
+
+
+def _near_segment(k, a: Point, b: Point, keep: float) -> bool:
+    """Does the box of ``k`` come within ``keep`` of the segment a-b (a slide along x or y)?"""
+    x0, x1 = sorted((a[0], b[0]))
+    y0, y1 = sorted((a[1], b[1]))
+    dx = max(x0 - (k.x + k.sx / 2), (k.x - k.sx / 2) - x1, 0.0)
+    dy = max(y0 - (k.y + k.sy / 2), (k.y - k.sy / 2) - y1, 0.0)
+    return math.hypot(dx, dy) < keep
 
 
 def goal_atoms(belief: Belief, goal: Sequence[str], domain: m.Domain | None) -> tuple:
@@ -170,6 +206,9 @@ def write(
     for d in deposits:
         atoms += [("deposit-at", d.name, deposit_waypoint(d.name)), ("accepts", d.name, d.category)]
     atoms += [("closed", d) for d in sorted(belief.closed)]
+    names = {k.name for k in seen}
+    for d, who in pull_blockers(belief).items():
+        atoms += [("pull-blocked", d)] + [("blocks-pull", o, d) for o in who if o in names]
     atoms += [("removal-waypoint", item, w) for item, w in removal.items()]
     for w, p in p_near.items():
         atoms.append(("unexplored", w))

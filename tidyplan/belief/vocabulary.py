@@ -24,6 +24,8 @@ VOCABULARY: dict[str, tuple[str, ...]] = {
     "deposit-at": ("deposit", "waypoint"),
     "accepts": ("deposit", "category"),
     "closed": ("deposit",),  # a drawer not open (the WRS drawer)
+    "pull-blocked": ("deposit",),  # a floor item lies where the base backs off to pull it open
+    "blocks-pull": ("item", "deposit"),
     "removal-waypoint": ("item", "waypoint"),
     "unexplored": ("waypoint",),
     "path": ("waypoint", "waypoint"),

@@ -40,6 +40,7 @@ FIND_RADIUS = 0.25  # m around the believed place a close look searches for the 
 FALL_SPREAD = 0.6  # m from where the hand let go that a dropped item is searched for
 ADJUST_PATH_MAX = 1.5  # m: the longest careful base adjustment around an item
 BUMP_RADIUS = 0.6  # m around the robot a close look searches after the base was stopped
+BUMP_AHEAD = 0.4  # m ahead, along the way it was going, where that close look is aimed
 
 
 class Navigate(Unit):
@@ -107,10 +108,23 @@ class Navigate(Unit):
         belief = self.ctx.belief
         belief.blocked_moves |= {(self.ctx.start or belief.robot, self.goal), (belief.robot, self.goal)}
         if failure.what == "path_blocked":
-            found = self.ctx.world.locate(belief.robot, BUMP_RADIUS)
+            # look where the base was going: what stopped it lies ahead, too near for a sweep
+            # (the head sees the floor from about 0.7 m out); the close look steps back for it
+            found = self.ctx.world.locate(self._ahead(belief.robot), BUMP_RADIUS)
             new = belief.bumped(found) if found is not None else None
             if new is not None:
                 self.ctx.new.append(new)
+
+
+    def _ahead(self, here: Point) -> Point:
+        """The point BUMP_AHEAD m from ``here`` along the path the base was following (``here``
+        itself where the path gives no direction)."""
+        i = min(range(len(self.path)), key=lambda k: math.dist(self.path[k], here), default=0)
+        to = next((q for q in self.path[i:] if math.dist(q, here) > 0.04), None)
+        if to is None:
+            return here
+        d = math.dist(to, here)
+        return (here[0] + (to[0] - here[0]) / d * BUMP_AHEAD, here[1] + (to[1] - here[1]) / d * BUMP_AHEAD)
 
 
 class AdjustBase(Unit):

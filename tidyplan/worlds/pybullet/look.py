@@ -10,12 +10,15 @@ import math
 
 from sim.camera import sample_points
 from sim.motion import base_contacts, blocked
-from sim.robot import CAMERA_TILT
+from sim.robot import CAMERA_TILT, YAW_SPEED
 from tidyplan.belief.state import Detection
 
 Point = tuple[float, float]
 
 AROUND, AROUND_LOOK = 0.3, 0.6  # m: a place this close is "around the robot"; looked at this far out
+# rad the base turns for a close look past the arm held in its carrying posture (measured: with
+# an object in the hand, a floor object 0.32 m in front is hidden from the head; turned, seen)
+PAST_ARM = 0.6
 RECOGNISE_S = 1.0  # s: object recognition on one camera frame (the symbolic world's locate)
 PANS = (1.75, 0.80, -0.15, -1.10, -2.05, -3.00, -3.84)  # head pan stops of a sweep: 58 deg frames overlap
 # two tilts per stop: 7 deg above to 60 deg below the horizon, the floor from 0.6 m out and table
@@ -72,6 +75,11 @@ class HeadCamera:
         seconds = self.hsr.turn_to(*near)  # face it: the head pans too little behind the robot
         seen, spent = self._look_at(near, surface, candidates)
         seconds += spent
+        if self.holding is not None and not self._seen_near(seen, near):
+            # the arm in its carrying posture hides the floor just in front: look past it, the
+            # base turned a little either way and the head panned back to the place
+            more, spent = self._look_past_the_arm(near, surface, candidates)
+            seen, seconds = seen | more, seconds + spent
         lift = self.hsr.q("arm_lift_joint")
         if not seen and self._too_close(near, surface):
             seconds += self.hsr.set_joints({"arm_lift_joint": 0.69})
@@ -124,6 +132,28 @@ class HeadCamera:
         tilt = -math.atan2(eye[2] - surface - 0.05, max(math.dist(eye[:2], near), 0.1))
         seconds = self.hsr.set_head(0.0, max(tilt, -1.57)) + RECOGNISE_S
         return self.camera.seen(self.client, *self.hsr.camera(), candidates, self.hsr.head_parts()), seconds
+
+    def _seen_near(self, seen: set[str], near: Point) -> bool:
+        return any(math.dist((self.items[n].x, self.items[n].y), near) <= AROUND for n in seen)
+
+    def _look_past_the_arm(self, near: Point, surface: float, candidates) -> tuple[set[str], float]:
+        """Looks at ``near`` with the base turned PAST_ARM either way and the head panned back,
+        until something is seen near it; the base is turned back to face it."""
+        seen: set[str] = set()
+        seconds = 0.0
+        x, y, yaw = self.hsr.base()
+        for turn in (PAST_ARM, -PAST_ARM):
+            self.hsr.set_base(x, y, yaw + turn)
+            self._carry_along()
+            eye, _, _ = self.hsr.camera()
+            tilt = -math.atan2(eye[2] - surface - 0.05, max(math.dist(eye[:2], near), 0.1))
+            seconds += 2 * PAST_ARM / YAW_SPEED + self.hsr.set_head(-turn, max(tilt, -1.57)) + RECOGNISE_S
+            seen |= self.camera.seen(self.client, *self.hsr.camera(), candidates, self.hsr.head_parts())
+            if self._seen_near(seen, near):
+                break
+        self.hsr.set_base(x, y, yaw)
+        self._carry_along()
+        return seen, seconds
 
     def _step_back(self, near: Point, surface: float) -> Point | None:
         """The nearest free pose, straight back, back to either side or sideways, from which the
