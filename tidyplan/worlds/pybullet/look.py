@@ -125,12 +125,12 @@ class HeadCamera:
         o = min((self.items[n] for n in seen), key=lambda o: (math.dist((o.x, o.y), near), o.name))
         return self._seen(o)
 
-    def _look_at(self, near: Point, surface: float, candidates) -> tuple[set[str], float]:
-        """Tilt the head to the place (the base faces it) and recognise; returns what was seen
-        and the seconds it took."""
+    def _look_at(self, near: Point, surface: float, candidates, pan: float = 0.0) -> tuple[set[str], float]:
+        """Tilt the head to the place (the base faces it, or ``pan`` turns the head back to it)
+        and recognise; returns what was seen and the seconds it took."""
         eye, _, _ = self.hsr.camera()
         tilt = -math.atan2(eye[2] - surface - 0.05, max(math.dist(eye[:2], near), 0.1))
-        seconds = self.hsr.set_head(0.0, max(tilt, -1.57)) + RECOGNISE_S
+        seconds = self.hsr.set_head(pan, max(tilt, -1.57)) + RECOGNISE_S
         return self.camera.seen(self.client, *self.hsr.camera(), candidates, self.hsr.head_parts()), seconds
 
     def _seen_near(self, seen: set[str], near: Point) -> bool:
@@ -145,10 +145,8 @@ class HeadCamera:
         for turn in (PAST_ARM, -PAST_ARM):
             self.hsr.set_base(x, y, yaw + turn)
             self._carry_along()
-            eye, _, _ = self.hsr.camera()
-            tilt = -math.atan2(eye[2] - surface - 0.05, max(math.dist(eye[:2], near), 0.1))
-            seconds += 2 * PAST_ARM / YAW_SPEED + self.hsr.set_head(-turn, max(tilt, -1.57)) + RECOGNISE_S
-            seen |= self.camera.seen(self.client, *self.hsr.camera(), candidates, self.hsr.head_parts())
+            more, spent = self._look_at(near, surface, candidates, pan=-turn)
+            seen, seconds = seen | more, seconds + 2 * PAST_ARM / YAW_SPEED + spent
             if self._seen_near(seen, near):
                 break
         self.hsr.set_base(x, y, yaw)
