@@ -208,5 +208,47 @@ def test_a_mission_with_the_three_drawer_chest_tidies_every_tool_into_a_drawer(w
     assert tools and all("drawer" in where for where in map(str, tools.values())), tools
     # all three opened (the rulebook's +50), though the tools fit in one: the first plans' goal
     events = [json.loads(line) for line in open(trace)]
-    opened = {e["action"].split()[1] for e in events if e["kind"] == "action" and e["ok"] and "open_drawer" in e["action"]}
+    opened = {
+        e["action"].split()[1]
+        for e in events
+        if e["kind"] == "action" and e["ok"] and "open_drawer" in e["action"]
+    }
     assert opened == {"drawer-left", "drawer-bottom", "drawer-top"}
+
+
+def test_an_open_drawer_is_furniture_in_the_robots_map_and_in_the_symbolic_world(chest):
+    """A drawer out of its carcass takes floor the base must keep clear of: in the belief's map
+    once the robot saw it open, in the symbolic world's truth as long as it is out (in pybullet
+    the map let the base drive into the open top drawer, wrs-task1-s002)."""
+    from tidyplan.belief.geometry import RoomMap
+    from tidyplan.belief.state import Belief
+    from tidyplan.exec.context import Context
+    from tidyplan.worlds.symbolic import SymbolicWorld
+
+    room = RoomMap(chest)
+    belief = Belief(chest, room)
+    top = belief.drawers["drawer-top"]
+    assert belief.drawers_out() == [] and top.out_box(0.0) is None
+    inside = top.point(0.15)  # on the drawer's middle line, 0.15 m out of the carcass
+    near = top.point(0.45)  # where the base's centre clears the closed drawer, not the open one
+    ctx = Context(None, belief, lambda d, w: [])
+    assert room.grid(ctx.floor(), bare=True).free(*near)
+    before = belief.facts()
+    belief.drawer_seen("drawer-top", top.spec.travel, True)
+    (box,) = belief.drawers_out()
+    assert box.clearance(*inside) == 0.0 and box.clearance(*top.point(top.spec.travel + 0.03)) == 0.0
+    assert not room.grid(ctx.floor(), bare=True).free(*near)
+    assert belief.facts() is not before  # the map's facts follow the drawer
+    assert "drawer-top" not in belief.closed
+    belief.drawer_seen("drawer-top", 0.05, False)  # pushed back part-way: closed, still 5 cm out
+    assert "drawer-top" in belief.closed and belief.drawers_out()[0].sx == pytest.approx(0.05 + 0.035)
+
+    world = SymbolicWorld(chest, room, seed=0)
+    start = top.point(0.75)
+    world.robot = start
+    world.opened["drawer-top"] = 0.0
+    assert world.follow([start, near]).ok  # closed: the base drives up to the front
+    world.robot = start
+    world.opened["drawer-top"] = top.spec.travel
+    out = world.follow([start, near])
+    assert not out.ok and out.failure == "path_blocked"

@@ -135,6 +135,26 @@ def test_the_referee_counts_an_orientation_item_in_its_box_or_in_its_categorys_d
     assert world.untidied() == []
 
 
+def test_whether_an_item_is_an_orientation_item_follows_what_the_detector_says_of_it_now():
+    """The object a look or a close look finds of a category near a believed one may be another
+    one: a box beside a marker, both tools. Believed a marker still, the box was stood on its end
+    in container B, out of which it toppled and fell off the table (wrs-task1-s002, pybullet)."""
+    from tidyplan.belief.state import Belief, Detection
+
+    s = _room()
+    belief = Belief(s, RoomMap(s))
+    belief.robot = (1.8, 2.5)
+    marker = Detection("tool", 1.8, 1.0, "floor", 0.121, 0.02, 0.02, down=(1.0, 0.0, 0.0))
+    name = belief.observe([marker], None).new[0]
+    assert belief.items[name].oriented
+    box = Detection("tool", 1.81, 1.0, "floor", 0.07, 0.06, 0.15)  # no down end: not a marker
+    assert belief.observe([box], None).confirmed == [name] and not belief.items[name].oriented
+    belief.relocate(name, 1.8, 1.0, (0.121, 0.02, 0.02), oriented=True)  # a close look: the marker
+    assert belief.items[name].oriented
+    belief.relocate(name, 1.8, 1.0)  # a look that says nothing of it keeps what was known
+    assert belief.items[name].oriented
+
+
 def test_the_mission_stands_the_marker_in_container_b_and_scores_its_orientation(tmp_path):
     trace = tmp_path / "m.jsonl"
     summary = run(_room(), trace, Settings(world="symbolic", planner="lama-first", rates=EXACT))

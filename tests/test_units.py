@@ -234,3 +234,32 @@ def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():
     for turned in ((0.45, 0.19), (0.19, 0.45)):  # lying along x or along y: the robot can still go
         box = Placed(name, "toy", *unit.spot, sx=turned[0], sy=turned[1]).box()
         assert room.grid([box]).free(*world.robot), turned
+
+
+def test_a_drive_does_not_step_back_to_the_centre_of_the_cell_the_robot_stands_in():
+    """A path on the grid starts at the centre of the robot's cell; the base, stopped anywhere in
+    it, goes straight on to the next one instead. An object too close for the camera beside the
+    base, the way to that centre (2.4 cm) ran into it, whichever way the robot was going: in
+    pybullet a bowl fallen beside the base pinned the robot at container B (wrs-task1-s005)."""
+    from tidyplan.belief.state import Belief
+    from tidyplan.exec.units import Context, Navigate
+
+    scenario = _scenario("beside", [("t1", 1.0, 1.0, (0.08, 0.08, 0.1))])
+    room = RoomMap(scenario)
+    nav = room.grid(())
+    centre = nav.xy(*nav.cell(1.5, 1.0))
+    pose = (round(centre[0] + 0.024, 3), centre[1])  # in the cell, 2.4 cm east of its centre
+    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
+    # the toy (unknown to the belief) 1 cm beyond the base's reach from the pose, to the west
+    world.items["t1"].x, world.items["t1"].y = pose[0] - room.bare_radius - 0.04 - 0.01, pose[1]
+    world.robot = pose
+    belief = Belief(scenario, room)
+    belief.robot = pose
+    goal = (pose[0] + 1.0, pose[1])
+    unit = Navigate(Context(world, belief, lambda d, w: []), goal, "wp-east")
+    assert unit.plan() is None
+    assert unit.path[0] == pose and all(math.dist(q, centre) > 1e-6 for q in unit.path)
+    assert unit.do(StateMonitor()) is None and world.robot == goal
+    # the step the grid's path began with would have run into it
+    world.robot = pose
+    assert not world.follow([pose, centre]).ok

@@ -308,6 +308,15 @@ class DrawerLayout:
         of room on either side along the slide?"""
         return min(footprint) + 0.02 <= self.exposed_depth(opening) and max(footprint) < self.spec.width
 
+    def out_box(self, opening: float, name: str = "") -> Box | None:
+        """The floor the drawer takes out of its carcass, open by ``opening``, its side boards and
+        handle with it: what the base must keep clear of (None closed). The base cannot pass
+        under it: a drawer's front reaches down below its floor, and the torso stands above."""
+        if opening <= 0.0:
+            return None
+        x0, x1, y0, y1 = self.rect(0.0, opening + HANDLE[0], self.spec.width / 2 + BOARD)
+        return Box((x0 + x1) / 2, (y0 + y1) / 2, x1 - x0, y1 - y0, name)
+
     def handle(self, opening: float) -> tuple[float, float, float]:
         """The middle of the handle's grip, open by ``opening``: where the hand closes on it."""
         return (*self.point(opening + HANDLE[0] / 2), self.handle_z)

@@ -103,6 +103,7 @@ class RoomMap:
         self.nav_radius = scenario.robot.radius + scenario.robot.nav_margin
         self.bare_radius = scenario.robot.radius
         self._origin: Point = (0.0, 0.0)  # where reachability is counted from, set by facts()
+        self._out: tuple[Box, ...] = ()  # the open drawers' boxes, set by facts()
         self._grids: dict[tuple[float, frozenset[Box]], OccupancyGrid] = {}
         self._bare_cells: tuple[list[Point], np.ndarray] | None = None  # for _ring
         static = self.grid(())
@@ -143,14 +144,18 @@ class RoomMap:
         robot: tuple[str, Point] | None = None,
         sticky: dict[str, Point] | None = None,
         avoid: dict[str, list[Point]] | None = None,
+        out: Sequence[Box] = (),
     ) -> MapFacts:
         """Waypoints and path facts with ``items`` where they are; ``robot`` = (name, point) adds
         the robot's pose under that name (the waypoint it last reached, which may be gone from the
         map: the grasp pose of the item now in its hand) when no waypoint is there already.
         ``sticky`` holds grasp poses chosen before: kept while still usable, so a plan's waypoints
-        survive a replan."""
+        survive a replan. ``out``: the open drawers' boxes out of their carcasses, furniture for
+        the base as long as they are out (never an item to take away)."""
+        self._out = tuple(out)
         floor = [p.box() for p in items if p.on_floor]
-        nav, static, bare = self.grid(floor), self.grid(()), self.grid(floor, bare=True)
+        base_floor = floor + list(out)
+        nav, static, bare = self.grid(base_floor), self.grid(out), self.grid(base_floor, bare=True)
         facts = MapFacts(points=dict(self.fixed), kind=dict(self.fixed_kind))
         # Reachable from where the robot is, not from the entrance: an item that fell by the door
         # shuts the entrance's cell, not the room (case III with faults had no grasp pose left),
@@ -207,7 +212,7 @@ class RoomMap:
             return
         # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
         # its paths would be blocked by the item to be taken from there (no plan could start)
-        own = self.grid([p.box()]) if p.on_floor else static
+        own = self.grid([p.box(), *self._out]) if p.on_floor else static
         room = set(own.free_cells(reachable_from=self._origin if own.free(*self._origin) else self.entrance))
         later = [c for c in crossing if c in room]
         if previous in later:
@@ -224,7 +229,7 @@ class RoomMap:
             if not bare.free(*c):
                 continue
             # a pose adjustment is a short straight move: never through furniture or a wall
-            base = [q for q in reachable if math.dist(q, c) <= ADJUST_MAX and _straight(bare, q, c)]
+            base = [q for q in reachable if math.dist(q, c) <= ADJUST_MAX and straight(bare, q, c)]
             if base:
                 tight.append((rank(c), c, min(base, key=lambda q: (math.dist(q, c), q))))
         if not tight:
@@ -304,13 +309,13 @@ class RoomMap:
         every floor item near the pair's path on the static map (all of them must go)."""
         floor = [p for p in items if p.on_floor]
         freed: dict[tuple[int, int], list[str]] = {pair: [] for pair in pairs}
-        nav = self.grid([p.box() for p in floor])
+        nav = self.grid([p.box() for p in floor] + list(self._out))
         for p in floor:
             joined = nav.connected_without(p.box(), [(pts[i], pts[j]) for i, j in pairs])
             for pair, ok in zip(pairs, joined, strict=True):
                 if ok:
                     freed[pair].append(p.name)
-        static = self.grid(())
+        static = self.grid(self._out)
         xy = np.array([p.xy for p in floor], dtype=float).reshape(-1, 2)
         for (i, j), who in freed.items():
             if not who:
@@ -324,7 +329,7 @@ class RoomMap:
                 facts.blocks.add((item, names[i], names[j]))
 
 
-def _straight(grid: OccupancyGrid, a: Point, b: Point, step: float = 0.05) -> bool:
+def straight(grid: OccupancyGrid, a: Point, b: Point, step: float = 0.05) -> bool:
     """Whether the straight segment a-b runs over free cells only (sampled every ``step``)."""
     n = max(1, math.ceil(math.dist(a, b) / step))
     return all(grid.free(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) for k in range(n + 1))

@@ -31,7 +31,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sim.scenario.model import Scenario
+from sim.grid import Box
+from sim.scenario.model import DrawerLayout, Scenario, drawer_layout
 from sim.visibility import Box3, visible, visible_points
 from tidyplan.belief import viewpoints
 from tidyplan.belief.geometry import ENTRANCE, MapFacts, Placed, RoomMap
@@ -127,6 +128,11 @@ class Belief:
         self.closed: set[str] = {
             d.name for d in scenario.deposits if d.drawer is not None and d.drawer.closed
         }
+        # how far each drawer is out, as told and then seen (m): the part out of its carcass is
+        # furniture for the base (wrs-task1-s002: paths the map gave ran into the open top drawer)
+        layouts = ((d.name, drawer_layout(scenario.furniture, d)) for d in scenario.deposits if d.drawer)
+        self.drawers: dict[str, DrawerLayout] = {n: x for n, x in layouts if x is not None}
+        self.drawer_out: dict[str, float] = {n: x.start for n, x in self.drawers.items()}
         # items the error layer gave up (monitor.loop): written without their category, so no
         # plan delivers them again; a plan may still move one aside
         self.undeliverable: set[str] = set()
@@ -178,7 +184,8 @@ class Belief:
             k.name: [pose for place, pose in self.failed_poses if math.dist(place, (k.x, k.y)) <= SAME_ITEM]
             for k in self.untidied()
         }
-        facts = self.room.facts(self.placed(), (self.robot_wp, self.robot), self.sticky, avoid)
+        robot = (self.robot_wp, self.robot)
+        facts = self.room.facts(self.placed(), robot, self.sticky, avoid, self.drawers_out())
         for item, wp in facts.grasp.items():
             self.sticky[item] = facts.points[wp]
         for table in (facts.path, facts.adjust):
@@ -196,9 +203,23 @@ class Belief:
             frozenset(self.blocked_moves),
             tuple(sorted(self.sticky.items())),
             tuple(self.failed_poses),
+            tuple(sorted(self.drawer_out.items())),
         )
 
+    def drawers_out(self) -> list[Box]:
+        """The open drawers' boxes out of their carcasses, as last seen: furniture for the base."""
+        boxes = (x.out_box(self.drawer_out[n], n) for n, x in sorted(self.drawers.items()))
+        return [b for b in boxes if b is not None]
+
     # ------------------------------------------------------------------ updates
+    def drawer_seen(self, deposit: str, opening: float, is_open: bool) -> None:
+        """A look at a drawer's front: it is out by ``opening`` m; open enough to use, or not."""
+        self.drawer_out[deposit] = opening
+        if is_open:
+            self.closed.discard(deposit)
+        else:
+            self.closed.add(deposit)
+
     def at(self, point: Point, waypoint: str) -> None:
         self.robot, self.robot_wp = point, waypoint
         self.reached.add(waypoint)
@@ -219,6 +240,7 @@ class Belief:
                 if k.spread or math.dist((k.x, k.y), (d.x, d.y)) > MOVED:
                     self.relocate(k.name, d.x, d.y)
                 k.sx, k.sy, k.sz = d.sx, d.sy, d.sz  # and its extent as it lies now (relocate)
+                k.oriented = d.down is not None  # what the detector says of it now (relocate)
                 matched.add(k.name)
                 update.confirmed.append(k.name)
                 continue
@@ -243,7 +265,8 @@ class Belief:
         if name is None:
             self._serial[d.category] += 1
             name = f"{d.category}-{self._serial[d.category]}"
-        self.items[name] = Known(name, d.category, d.x, d.y, d.on, d.sx, d.sy, d.sz, oriented=d.down is not None)
+        oriented = d.down is not None
+        self.items[name] = Known(name, d.category, d.x, d.y, d.on, d.sx, d.sy, d.sz, oriented=oriented)
         return name
 
     def bumped(self, d: Detection) -> str | None:
@@ -259,7 +282,7 @@ class Belief:
         ]
         if near:
             k = min(near, key=lambda k: (math.dist((k.x, k.y), (d.x, d.y)), k.name))
-            self.relocate(k.name, d.x, d.y)
+            self.relocate(k.name, d.x, d.y, oriented=d.down is not None)
             k.on, k.sx, k.sy, k.sz = d.on, d.sx, d.sy, d.sz
             return None
         return self._add(d)
@@ -324,11 +347,23 @@ class Belief:
         self.scene_changed = True
         self.unsee(near, spread + 0.4)  # a look for it covers where it may have rolled
 
-    def relocate(self, name: str, x: float, y: float, size: tuple[float, float, float] | None = None) -> None:
+    def relocate(
+        self,
+        name: str,
+        x: float,
+        y: float,
+        size: tuple[float, float, float] | None = None,
+        oriented: bool | None = None,
+    ) -> None:
         """A look found the item at (x, y), ``size`` (sx, sy, sz) as it lies now: a tall box that
         toppled covers more floor (kept upright in the belief, the map let the base drive into it,
-        and a put-down ring fit for it upright shut the robot in)."""
+        and a put-down ring fit for it upright shut the robot in). ``oriented``: whether the
+        detector reported a down end this time; the object a close look finds of the category
+        may be another than the one first seen there (a box beside a marker: the box was taken,
+        believed a marker, and stood on its end in container B, out of which it toppled)."""
         k = self.items[name]
+        if oriented is not None:
+            k.oriented = oriented
         if math.dist((k.x, k.y), (x, y)) > MOVED:
             self.sticky.pop(name, None)  # the grasp pose chosen for the old place may not fit
         k.x, k.y, k.spread, k.misses = x, y, 0.0, 0

@@ -28,4 +28,7 @@ class Context:
         self.new = [n for n in self.new + self.observe(self.world.look(), waypoint) if n in self.belief.items]
 
     def floor(self, without: str | None = None):
-        return [p.box() for p in self.belief.placed() if p.on_floor and p.name != without]
+        """What the base must keep clear of beyond the furniture: the floor items (but
+        ``without``) and the open drawers."""
+        items = [p.box() for p in self.belief.placed() if p.on_floor and p.name != without]
+        return items + self.belief.drawers_out()

@@ -67,11 +67,9 @@ class PullHandle(Unit):
     def _open(self) -> bool:
         """The check: how far the drawer is out, as the robot sees it; the belief follows."""
         opening = self.ctx.world.drawer_opening(self.deposit)
-        if opening >= OPEN_SHARE * self.travel:
-            self.ctx.belief.closed.discard(self.deposit)
-            return True
-        self.ctx.belief.closed.add(self.deposit)
-        return False
+        is_open = opening >= OPEN_SHARE * self.travel
+        self.ctx.belief.drawer_seen(self.deposit, opening, is_open)
+        return is_open
 
 
 class PushDrawer(Unit):

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 
-from tidyplan.belief.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN
+from tidyplan.belief.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, straight
 from tidyplan.exec.catalogue import (
     ADJUST_BASE,
     ADJUST_POSE,
@@ -87,6 +87,11 @@ class Navigate(Unit):
         inner = nav.path(start, self.goal)
         if inner is None:
             return Failure(A, "no_path", "no path on the map")
+        if len(inner) > 1 and start == pose and straight(nav, pose, inner[1]):
+            # not back to the centre of the cell it stands in first: that step may lead into what
+            # it stopped short of, an object it cannot see so close (wrs-task1-s005: a bowl that
+            # fell beside the base, 3.5 cm towards it, pinned the robot at container B)
+            inner = inner[1:]
         self.path = _dedupe(prefix + inner + [self.goal])
         return None
 
@@ -357,7 +362,7 @@ def _locate(ctx: Context, item: str, unit) -> Failure | None:
     seen = ctx.world.locate((k.x, k.y), max(FIND_RADIUS, k.spread), k.category)
     if seen is None:
         return Failure(A, "not_found", f"no {k.category} near ({k.x:.2f}, {k.y:.2f})")
-    ctx.belief.relocate(item, seen.x, seen.y, (seen.sx, seen.sy, seen.sz))
+    ctx.belief.relocate(item, seen.x, seen.y, (seen.sx, seen.sy, seen.sz), oriented=seen.down is not None)
     unit.target = (seen.x, seen.y)
     unit.reach = ctx.world.grasp_distances(seen.sz)
     return None

@@ -118,7 +118,8 @@ class SymbolicWorld(WorldReferee):
         n = len(path)
         block_at, drop_at = self._faults_on_path(n)
         floor = [self._box(o) for o in self._placed() if o.on == "floor"]
-        bare = self.room.grid(floor, bare=True)
+        out = (x.out_box(self.opened[n], n) for n, x in sorted(self.drawers.items()))
+        bare = self.room.grid(floor + [b for b in out if b is not None], bare=True)
         metres = seconds = 0.0
         for k in range(1, n):
             if k == block_at or not _segment_free(bare, path[k - 1], path[k]):
