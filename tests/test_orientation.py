@@ -84,8 +84,12 @@ def test_an_orientation_item_is_read_with_its_axis_made_a_unit_vector_and_writte
             'down = "tip"',
             'item "marker".orientation.axis: missing required key',
         ),
-        ("axis = [1.0, 0.0, 0.0]", "axis = [0, 0, 0]", 'item "marker".orientation.axis: must not be [0, 0, 0]'),
-        ('down = "tip"', 'down = "Tip!"', 'item "marker".orientation.down: \'Tip!\' must match'),
+        (
+            "axis = [1.0, 0.0, 0.0]",
+            "axis = [0, 0, 0]",
+            'item "marker".orientation.axis: must not be [0, 0, 0]',
+        ),
+        ('down = "tip"', 'down = "Tip!"', "item \"marker\".orientation.down: 'Tip!' must match"),
         (
             "container = [0.095, 0.095, 0.105]",
             "container = [0.095, 0.095, 0.105]\n[deposit.drawer]\nclosed = true",
@@ -113,7 +117,17 @@ def test_tidyplan_run_refuses_an_orientation_item_without_an_axis_before_any_wor
     f = tmp_path / "m.toml"
     f.write_text(ROOM.format(sign=1.0).replace('axis = [1.0, 0.0, 0.0], down = "tip"', 'down = "tip"'))
     out = subprocess.run(
-        [sys.executable, "-m", "tidyplan", "run", str(f), "--world", "symbolic", "--trace", str(tmp_path / "t.jsonl")],
+        [
+            sys.executable,
+            "-m",
+            "tidyplan",
+            "run",
+            str(f),
+            "--world",
+            "symbolic",
+            "--trace",
+            str(tmp_path / "t.jsonl"),
+        ],
         capture_output=True,
         text=True,
         timeout=120,
@@ -213,7 +227,9 @@ def test_in_pybullet_a_marker_lying_in_container_b_does_not_stand(bullet):
     w = bullet(_room())
     marker = w.items["marker"]
     # laid across the box's rim as if let go flat: its axis level
-    p.resetBasePositionAndOrientation(w.bodies["marker"], (0.3, 1.3, 0.52), (0, 0, 0, 1), physicsClientId=w.client)
+    p.resetBasePositionAndOrientation(
+        w.bodies["marker"], (0.3, 1.3, 0.52), (0, 0, 0, 1), physicsClientId=w.client
+    )
     marker.state, marker.deposit = "tidied", "container-b"
     w._judge_stance("marker")
     assert marker.stands is False and w.standing() == []
@@ -227,15 +243,21 @@ def test_in_pybullet_a_marker_lying_in_container_b_does_not_stand(bullet):
 def test_in_pybullet_an_object_piled_on_another_on_a_tray_is_not_deposited(bullet):
     w = bullet(_room())
     # the box on the tray, the marker lying on top of it
-    p.resetBasePositionAndOrientation(w.bodies["box"], (0.3, 1.8, 0.46), (0, 0, 0, 1), physicsClientId=w.client)
-    p.resetBasePositionAndOrientation(w.bodies["marker"], (0.3, 1.8, 0.521), (0, 0, 0, 1), physicsClientId=w.client)
+    p.resetBasePositionAndOrientation(
+        w.bodies["box"], (0.3, 1.8, 0.46), (0, 0, 0, 1), physicsClientId=w.client
+    )
+    p.resetBasePositionAndOrientation(
+        w.bodies["marker"], (0.3, 1.8, 0.521), (0, 0, 0, 1), physicsClientId=w.client
+    )
     for _ in range(120):
         p.stepSimulation(physicsClientId=w.client)
     tray = next(d for d in w.scenario.deposits if d.name == "tray")
     assert w._off_tray("box", tray) is None
     assert w._off_tray("marker", tray) == "piled on box"
     # on the table beside the tray: it touches the table
-    p.resetBasePositionAndOrientation(w.bodies["box"], (0.3, 1.05, 0.451), (0, 0, 0, 1), physicsClientId=w.client)
+    p.resetBasePositionAndOrientation(
+        w.bodies["box"], (0.3, 1.05, 0.451), (0, 0, 0, 1), physicsClientId=w.client
+    )
     for _ in range(60):
         p.stepSimulation(physicsClientId=w.client)
     assert w._off_tray("box", tray) == "touches the table"

@@ -207,10 +207,14 @@ class _Reader(FieldReader):
             self.error(f"{where}.unknown", f"must be true or false, got {unknown!r}")
         if category == UNKNOWN:
             self.error(f"{where}.category", f"the true category, not {UNKNOWN!r}: say unknown = true")
-        orientation = self._orientation(f"{where}.orientation", t["orientation"]) if "orientation" in t else ()
+        orientation = (
+            self._orientation(f"{where}.orientation", t["orientation"]) if "orientation" in t else ()
+        )
         if None in (name, category, pos, on, size, orientation) or not isinstance(unknown, bool):
             return None
-        return Item(name, category, pos[0], pos[1], on, *size, unknown=unknown, orientation=orientation or None)
+        return Item(
+            name, category, pos[0], pos[1], on, *size, unknown=unknown, orientation=orientation or None
+        )
 
     def _orientation(self, where: str, t: Any) -> Orientation | None:
         """[item.orientation]: the axis (in the item's own frame) to the end that goes down, and
@@ -221,7 +225,9 @@ class _Reader(FieldReader):
         self.keys(t, where, ("axis", "down"))
         before = len(self.messages)
         if "axis" not in t:
-            self.error(f"{where}.axis", "missing required key (which way, in the item's frame, its down end lies)")
+            self.error(
+                f"{where}.axis", "missing required key (which way, in the item's frame, its down end lies)"
+            )
         axis = self.vector(t, where, "axis", "[x, y, z]", default=None)
         if axis is not None and max(abs(v) for v in axis) == 0:
             self.error(f"{where}.axis", "must not be [0, 0, 0]: it points to the end that goes down")

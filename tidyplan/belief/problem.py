@@ -28,9 +28,9 @@ from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import COST, GOAL, VOCABULARY
 from tidyplan.pddl import model as m
 from tidyplan.pddl.writer import problem_text
+from tidyplan.planning.removal import Waypoint, removal_waypoint
 
 Point = tuple[float, float]
-from tidyplan.planning.removal import Waypoint, removal_waypoint
 
 NOT_FOR_REMOVAL = ("grasp", "deposit", "adjust", "robot")
 
@@ -94,8 +94,9 @@ def removal_choices(facts: MapFacts, belief: Belief, robot_wp: str) -> dict[str,
 def focus(facts: MapFacts, belief: Belief, goal: Sequence[str]) -> tuple[MapFacts, set[str]]:
     """The part of the map a problem for ``goal`` needs, and the seen items it keeps: the goal's
     items, the one in the hand, the items in the way of a closed drawer's pull, and, until nothing
-    changes, every item that blocks a way between the waypoints kept (P3 may have to move it). Other items' waypoints and ways are left out:
-    in a room of 48 items they made most of the problem, and a plan for a dozen never used them."""
+    changes, every item that blocks a way between the waypoints kept (P3 may have to move it).
+    Other items' waypoints and ways are left out: in a room of 48 items they made most of the
+    problem, and a plan for a dozen never used them."""
     robot_wp = robot_waypoint(facts, belief)
     fixed = {n for n, k in facts.kind.items() if k in ("entrance", "viewpoint", "deposit", "robot")}
     fixed |= {n + "-base" for n in fixed if n + "-base" in facts.points} | {robot_wp}
@@ -135,11 +136,7 @@ def pull_blockers(belief: Belief) -> dict[str, list[str]]:
             continue
         a = d.approach
         b = layout.point(layout.out(a) + layout.spec.travel, a[1 - layout.k])
-        who = [
-            k.name
-            for k in belief.placed()
-            if k.on_floor and _near_segment(k, a, b, keep)
-        ]
+        who = [k.name for k in belief.placed() if k.on_floor and _near_segment(k, a, b, keep)]
         if who:
             out[d.name] = sorted(who)
     return out

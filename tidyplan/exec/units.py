@@ -120,7 +120,6 @@ class Navigate(Unit):
             if new is not None:
                 self.ctx.new.append(new)
 
-
     def _ahead(self, here: Point) -> Point:
         """The point BUMP_AHEAD m from ``here`` along the path the base was following (``here``
         itself where the path gives no direction)."""

@@ -242,7 +242,9 @@ def _orientation_items(rng, items: list[Item], pieces: dict[str, Furniture]) -> 
     on the floor, FLOOR_GAP from the furniture); the candidates of its category in drawn order."""
     out = list(items)
     for name, category, length, width, height, down in ORIENTATION_ITEMS:
-        candidates = [k for k, i in enumerate(out) if i.category == category and not i.unknown and i.orientation is None]
+        candidates = [
+            k for k, i in enumerate(out) if i.category == category and not i.unknown and i.orientation is None
+        ]
         rng.shuffle(candidates)
         for k in candidates:
             i = out[k]
@@ -251,7 +253,9 @@ def _orientation_items(rng, items: list[Item], pieces: dict[str, Furniture]) -> 
             for ax in (along_x, not along_x):
                 size = (length, width, height) if ax else (width, length, height)
                 axis = (sign, 0.0, 0.0) if ax else (0.0, sign, 0.0)
-                made = replace(i, name=name, sx=size[0], sy=size[1], sz=size[2], orientation=Orientation(axis, down))
+                made = replace(
+                    i, name=name, sx=size[0], sy=size[1], sz=size[2], orientation=Orientation(axis, down)
+                )
                 if _fits_among(made, [o for j, o in enumerate(out) if j != k], pieces):
                     out[k] = made
                     break
@@ -264,7 +268,6 @@ def _orientation_items(rng, items: list[Item], pieces: dict[str, Furniture]) -> 
 
 
 def _fits_among(item: Item, others: list[Item], pieces: dict[str, Furniture]) -> bool:
-    box = item.box()
     if item.on != FLOOR:
         f = pieces[item.on]
         if abs(item.x - f.cx) + item.sx / 2 > f.sx / 2 or abs(item.y - f.cy) + item.sy / 2 > f.sy / 2:

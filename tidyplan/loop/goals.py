@@ -21,11 +21,12 @@ Goal = tuple[str, list[str], list[tuple[str, str]]]  # (label, items, virtual ob
 
 
 def goals(belief: Belief, facts: MapFacts) -> list[Goal]:
-    """The goals to try (item names, and the names of closed drawers to open): ``horizon`` (in a room of more than HORIZON items: the HORIZON seen items
-    nearest the robot, those it can drive to now first, then unseen ones up to HORIZON, a few of
-    each category); ``all``; ``seen`` (when ``all`` has virtual objects); last the seen items, from
-    which the loop keeps those that have a plan on their own (``feasible``: nearest first in a
-    room of more than HORIZON items, so the loop can stop once it has HORIZON of them)."""
+    """The goals to try (item names, and the names of closed drawers to open): ``horizon`` (in a
+    room of more than HORIZON items: the HORIZON seen items nearest the robot, those it can drive
+    to now first, then unseen ones up to HORIZON, a few of each category); ``all``; ``seen`` (when
+    ``all`` has virtual objects); last the seen items, from which the loop keeps those that have a
+    plan on their own (``feasible``: nearest first in a room of more than HORIZON items, so the
+    loop can stop once it has HORIZON of them)."""
     seen = [k.name for k in belief.untidied() if k.state == "held" or k.name in facts.grasp]
     virtual = belief.virtual() if belief.p_item_near(facts) else []
     # the drawers still closed, to be opened (the WRS rulebook's +50 for opening every drawer):

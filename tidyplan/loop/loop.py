@@ -158,9 +158,8 @@ class Mission:
         places, wrong = referee_view(self.referee)
         # orientation items standing the right way in their box: the score's orientation points
         standing = self.referee.standing()
-        self.trace.emit(
-            "end", success=success, reason=reason, items=places, escaped=escaped, misplaced=wrong, standing=standing
-        )
+        end = {"items": places, "escaped": escaped, "misplaced": wrong, "standing": standing}
+        self.trace.emit("end", success=success, reason=reason, **end)
         return Outcome(success, reason, self.count)
 
     def _tick(self) -> Ending | None:
