@@ -169,7 +169,7 @@ def test_the_robot_drives_around_a_table_on_a_path_the_grid_finds_free(world):
     assert out.seconds == pytest.approx(length / scenario.robot.speed, abs=1e-6)
 
 
-def test_a_drive_straight_through_a_floor_item_stops_short_of_it(world):
+def test_a_drive_straight_through_a_floor_item_stops_short_of_it_and_says_where_it_touched(world):
     scenario = loads(DRIVE, "drive.toml")
     toy = scenario.items[0]
     start, goal = (1.0, 1.5), (1.0, 0.25)
@@ -192,9 +192,18 @@ def test_a_drive_straight_through_a_floor_item_stops_short_of_it(world):
     assert BACK_OFF - STEP - 1e-6 <= backed < BACK_OFF
     after = p.getBasePositionAndOrientation(body, physicsClientId=w.client)[0]
     assert after == pytest.approx(before, abs=1e-6)  # stopped, not pushed through
+    # the bumper's side: where the base touched the toy, on the base's edge towards it
+    tx, ty = out.at
+    assert tx == pytest.approx(toy.x, abs=toy.sx / 2 + 0.01) and ty < y - BASE_RADIUS + BACK_OFF
+    assert math.dist(out.at, (toy.x, toy.y)) < math.hypot(toy.sx, toy.sy) / 2 + 0.02
     # and it can drive on from there, though the next path's first step (to a grid cell's centre)
     # may lead a step toward the toy: standing where the last check passed, that step was blocked
     assert w.follow([(x, y), (x, y - STEP), (x - 0.3, y - STEP)]).ok
+    # a toy off to the side of the way: the bumper's side is that side, not straight ahead
+    aside = toy.x + 0.2  # the base's edge (0.215 m out) passes 1.5 cm into the toy's side
+    _place(w, (aside, start[1]))
+    out = w.follow([(aside, start[1]), (aside, goal[1])])
+    assert not out.ok and out.at[0] < aside - 0.15 and out.at[1] == pytest.approx(toy.y, abs=0.06)
 
 
 # ---------------------------------------------------------------------- missions

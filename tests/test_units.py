@@ -8,6 +8,8 @@ import json
 import math
 from dataclasses import replace
 
+import pytest
+
 from tests.test_loop import EXACT, _scenario
 from tidyplan.belief.geometry import Placed, RoomMap
 from tidyplan.loop.mission import run
@@ -263,3 +265,22 @@ def test_a_drive_does_not_step_back_to_the_centre_of_the_cell_the_robot_stands_i
     # the step the grid's path began with would have run into it
     world.robot = pose
     assert not world.follow([pose, centre]).ok
+
+
+def test_after_a_bump_the_close_look_goes_where_the_base_touched_else_along_its_way():
+    """What stopped the base lies where its bumper touched it, which may be well aside of the way
+    it was going: ahead alone, a low box 40 degrees aside was out of the camera's field, never
+    found, and the robot stayed pinned for 750 s (wrs-task1-s004, pybullet)."""
+    from tidyplan.exec.units import BUMP_AHEAD, Context, Navigate
+
+    scenario = _scenario("bump", [("t1", 1.0, 1.0)])
+    world = SymbolicWorld(scenario, RoomMap(scenario), seed=0, rates=EXACT)
+    unit = Navigate(Context(world, None, lambda d, w: []), (2.0, 1.0), "wp-east")
+    unit.path = [(round(1.0 + 0.05 * k, 2), 1.0) for k in range(21)]  # cell centres, as planned
+    here = (1.2, 1.0)
+    assert unit._ahead(here) == pytest.approx((1.2 + BUMP_AHEAD, 1.0))
+    touched = (1.2 + 0.215 * math.cos(-0.7), 1.0 + 0.215 * math.sin(-0.7))  # its right front
+    x, y = unit._ahead(here, touched)
+    assert math.atan2(y - 1.0, x - 1.2) == pytest.approx(-0.7) and math.dist((x, y), here) == pytest.approx(
+        BUMP_AHEAD
+    )

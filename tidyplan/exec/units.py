@@ -57,6 +57,7 @@ class Navigate(Unit):
         self.path: list[Point] = []
         self.tries = 0
         self.carrying: str | None = None
+        self.touched: Point | None = None  # where the base's bumper touched what stopped it
 
     def check(self):
         self.tries += 1
@@ -113,18 +114,22 @@ class Navigate(Unit):
         belief = self.ctx.belief
         belief.blocked_moves |= {(self.ctx.start or belief.robot, self.goal), (belief.robot, self.goal)}
         if failure.what == "path_blocked":
-            # look where the base was going: what stopped it lies ahead, too near for a sweep
-            # (the head sees the floor from about 0.7 m out); the close look steps back for it
-            found = self.ctx.world.locate(self._ahead(belief.robot), BUMP_RADIUS)
+            # look where the base touched it (the bumper's side), else where it was going: what
+            # stopped it lies there, too near for a sweep (the head sees the floor from about
+            # 0.7 m out); the close look steps back for it. Ahead alone missed a low box 40
+            # degrees aside, out of the camera's field (wrs-task1-s004: 750 s pinned)
+            found = self.ctx.world.locate(self._ahead(belief.robot, self.touched), BUMP_RADIUS)
             new = belief.bumped(found) if found is not None else None
             if new is not None:
                 self.ctx.new.append(new)
 
-    def _ahead(self, here: Point) -> Point:
-        """The point BUMP_AHEAD m from ``here`` along the path the base was following (``here``
-        itself where the path gives no direction)."""
+    def _ahead(self, here: Point, touched: Point | None = None) -> Point:
+        """The point BUMP_AHEAD m from ``here`` towards where the base ``touched`` something, or
+        else along the path the base was following (``here`` itself where neither gives a
+        direction)."""
         i = min(range(len(self.path)), key=lambda k: math.dist(self.path[k], here), default=0)
-        to = next((q for q in self.path[i:] if math.dist(q, here) > 0.04), None)
+        to = touched if touched is not None and math.dist(touched, here) > 0.04 else None
+        to = to or next((q for q in self.path[i:] if math.dist(q, here) > 0.04), None)
         if to is None:
             return here
         d = math.dist(to, here)
@@ -237,6 +242,7 @@ class AlignAtDeposit(Unit):
         self.ctx, self.approach, self.waypoint = ctx, approach, waypoint
         self.path: list[Point] = []
         self.carrying: str | None = None
+        self.touched: Point | None = None
         self.hand_empty = hand_empty
         if hand_empty:
             self.name = APPROACH_HANDLE
@@ -333,6 +339,7 @@ def _drive(ctx: Context, unit, path: list[Point], monitor: StateMonitor, careful
         monitor.watch("grasp_drop", C, world.holds)
     out = world.follow(path, monitor, careful=careful)
     belief.robot = world.pose()
+    unit.touched = out.at if out.failure == "path_blocked" else None
     if out.ok:
         return None
     if monitor.fired is not None:

@@ -58,7 +58,9 @@ class Outcome:
     failure: str | None = None
     seconds: float = 0.0
     metres: float = 0.0
-    at: Point | None = None  # where an item was put down (drop)
+    # where an item was put down (drop); where the base touched what stopped it (path_blocked:
+    # the bumper's side, a point on the base's edge)
+    at: Point | None = None
 
 
 @dataclass(slots=True)

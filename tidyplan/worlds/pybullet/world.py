@@ -128,12 +128,14 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
             for s in range(1, steps + 1):
                 q = (a[0] + (b[0] - a[0]) * s / steps, a[1] + (b[1] - a[1]) * s / steps)
                 self._place_base(q)
-                if blocked(base_contacts(self.hsr, ignore), before):
+                hit = blocked(base_contacts(self.hsr, ignore), before)
+                if hit:
+                    touched = self._touched(hit)
                     back = next((r for r in reversed(passed) if math.dist(r, q) >= BACK_OFF), passed[0])
                     d = math.dist(self.robot, back)
                     self._place_base(back)  # stop short, and back off where the way was clear
                     self._arrive(back, d, d / speed)
-                    return Outcome(False, "path_blocked", seconds + d / speed, metres + d)
+                    return Outcome(False, "path_blocked", seconds + d / speed, metres + d, touched)
                 d = math.dist(self.robot, q)
                 metres, seconds = metres + d, seconds + d / speed
                 self._arrive(q, d, d / speed)
@@ -145,6 +147,20 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
         return Outcome(True, None, seconds, metres)
 
     # ------------------------------------------------------------------ helpers
+    def _touched(self, bodies: list[int]) -> Point:
+        """Where on the base's edge it touches ``bodies``: the bumper's side (the mean of the
+        contact points), for a close look there."""
+        base, client = self.hsr.base_link, self.client
+        points = [
+            q[5][:2]
+            for b in bodies
+            for q in p.getClosestPoints(self.hsr.body, b, 0.0, linkIndexA=base, physicsClientId=client)
+        ]
+        if not points:
+            return self.robot
+        x, y = np.mean(points, axis=0)
+        return round(float(x), 3), round(float(y), 3)
+
     def _ignored(self) -> list[int]:
         """What the base may touch: the floor, and the object in its own hand."""
         return [self.scene.floor] + ([self.bodies[self.holding]] if self.holding else [])
