@@ -284,3 +284,26 @@ def test_after_a_bump_the_close_look_goes_where_the_base_touched_else_along_its_
     assert math.atan2(y - 1.0, x - 1.2) == pytest.approx(-0.7) and math.dist((x, y), here) == pytest.approx(
         BUMP_AHEAD
     )
+
+
+def test_an_item_the_arm_did_not_reach_is_grasped_from_another_pose_next_time():
+    """The map's reach is a distance, the arm's is not: a take that found no base pose, or whose
+    arm did not reach, is not tried from the same pose again (wrs-task1-s106, pybullet: a spoon
+    on the floor between two tables, tried 0.64 m out from one pose until given up)."""
+    from tidyplan.belief.geometry import grasp_waypoint
+    from tidyplan.belief.state import Belief, Detection
+
+    scenario = _scenario("reach", [("t1", 1.5, 1.5)])
+    belief = Belief(scenario, RoomMap(scenario))
+    belief.robot = (1.5, 2.5)
+    name = belief.observe([Detection("toy", 1.5, 1.5, "floor")], None).new[0]
+    wp = grasp_waypoint(name)
+    tried = []
+    for _ in range(3):
+        facts = belief.facts()
+        pose = facts.points[wp]
+        assert all(math.dist(pose, q) >= 0.15 for q in tried)
+        tried.append(pose)
+        belief.robot = pose
+        belief.unreached(name)
+    assert name in belief.items  # not forgotten: it is there, only not from those poses

@@ -300,10 +300,18 @@ class Belief:
         An item seen there again is grasped from another pose: the look from this one failed."""
         k = self.items.get(name)
         if k is not None:
-            if k.state == "placed":
-                self.failed_poses.append(((k.x, k.y), self.robot))
+            self.unreached(name)
             self.unsee((k.x, k.y), max(LOST_RADIUS, k.spread + 0.4))
         self.forget(name)
+
+    def unreached(self, name: str) -> None:
+        """The item could not be taken from where the robot stands (a look did not find it, the
+        arm did not reach it, no base pose near this one did): the map grasps it from another
+        pose. The map's reach is a distance, the arm's is not (wrs-task1-s106: a spoon on the
+        floor between two tables, 0.64 m out, tried from the same pose until given up)."""
+        k = self.items.get(name)
+        if k is not None and k.state == "placed":
+            self.failed_poses.append(((k.x, k.y), self.robot))
 
     def in_deposit(self, deposit: str) -> list[Known]:
         """The items believed tidied into ``deposit``."""

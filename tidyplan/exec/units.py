@@ -193,6 +193,8 @@ class AdjustBase(Unit):
     def learn(self, failure: Failure) -> None:
         if failure.what == "not_found":
             self.ctx.belief.lost(self.item)  # nothing there: a false detection, or it rolled away
+        elif failure.what == "no_base_pose":
+            self.ctx.belief.unreached(self.item)
 
 
 class Grasp(Unit):
@@ -230,6 +232,8 @@ class Grasp(Unit):
     def learn(self, failure: Failure) -> None:
         if failure.what == "not_found":
             self.ctx.belief.lost(self.item)  # nothing there: a false detection, or it rolled away
+        elif failure.what == "out_of_reach":
+            self.ctx.belief.unreached(self.item)  # the arm did not reach it from this pose
 
 
 class AlignAtDeposit(Unit):
