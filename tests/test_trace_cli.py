@@ -8,6 +8,7 @@ on purpose (cut off mid-line, rewritten as a newer schema, their PDDL folder gon
 from __future__ import annotations
 
 import json
+import math
 import shutil
 import subprocess
 from collections import Counter
@@ -110,6 +111,11 @@ def test_story_says_how_many_replans_and_why(faulty, capsys):
     assert f"actions: {summary['actions']} executed" in out
     assert f"recoveries: {summary['recoveries']} steps" in out
     assert f"distance {summary['distance_m']:.2f} m" in out
+    from tidyplan.trace.read import read_trace
+    from tidyplan.trace.score import wrs_score
+
+    at_end = wrs_score(read_trace(trace).events, math.inf)
+    assert f"WRS score {summary['wrs_score']:g} within 900 s simulated ({at_end:g} at the end" in out
 
 
 @pytest.mark.slow
@@ -308,5 +314,6 @@ def test_two_runs_side_by_side(faulty, greedy, capsys):
     assert f"{sb['delivered']}/{sb['objects']}" in rows["tidied"]
     assert str(sa["replans"]) in rows["replans"] and str(sb["replans"]) in rows["replans"]
     assert "ofsm" in rows["strategy"] and "greedy" in rows["strategy"]
+    assert f"{sa['wrs_score']:g} (" in rows["WRS score (at the end)"]
     status, _, err = _trace(capsys, a, b, "--plot", "x.png")
     assert status == 2 and "give one trace" in err

@@ -325,6 +325,11 @@ def _selftest(tmp_path: Path, page_file: Path, times: list[float], **more) -> di
     assert found and found.group(1), "the page's self-test wrote nothing"
     result = json.loads(html.unescape(found.group(1)))
     assert result["errors"] == []
+    # the header's figures as drawn: label -> text
+    result["figures"] = {
+        html.unescape(k).strip(): html.unescape(v)
+        for k, v in re.findall(r'<span class="fig"><b>(.*?)</b><span[^>]*>(.*?)</span></span>', dom)
+    }
     return result
 
 
@@ -345,6 +350,9 @@ def test_in_chromium_the_robot_is_drawn_where_the_trace_has_it_and_a_replan_diff
 
     poses = result["poses"]
     assert [p["shown"] for p in poses] == pytest.approx(times, abs=1e-3)  # the slider moved there
+    s = summarise(trace)
+    score = f"{s['wrs_score']:g} within {s['time_limit_s']:g} s ({s['wrs_score_at_end']:g} at the end)"
+    assert result["figures"]["WRS score"] == score
     assert (poses[0]["x"], poses[0]["y"]) == pytest.approx(tuple(trace.start["robot"]), abs=0.01)
     keys = keyframes(trace)
     for p, (_, _, _, polyline) in zip(poses[1:], drives, strict=False):  # mid-drive: on its path

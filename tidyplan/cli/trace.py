@@ -164,6 +164,10 @@ def _print_story(out: Console, s: dict) -> None:
         f"objects: {s['new_objects']} seen anew, {s['forgotten']} forgotten; "
         f"tidied in order: {' '.join(s['tidied']) or 'none'}"
     )
+    out.print(
+        f"WRS score {s['wrs_score']:g} within {s['time_limit_s']:g} s simulated "
+        f"({s['wrs_score_at_end']:g} at the end, had there been no time limit)"
+    )
     t = s["replan_time_s"]
     out.print(
         f"distance {s['distance_m']:.2f} m; simulated time {s['sim_time_s']:.1f} s; "
@@ -324,6 +328,7 @@ ROWS = (
     ("tidied", lambda s: f"{s['delivered']}/{s['objects']}"),
     ("lost objects", lambda s: "?" if s["lost_objects"] is None else str(s["lost_objects"])),
     ("simulated time (s)", lambda s: f"{s['sim_time_s']:.1f}"),
+    ("WRS score (at the end)", lambda s: f"{s['wrs_score']:g} ({s['wrs_score_at_end']:g})"),
     ("wall time (s)", lambda s: f"{s['wall_time_s']:.2f}"),
     ("distance (m)", lambda s: f"{s['distance_m']:.2f}"),
     ("replans", lambda s: str(s["replans"])),

@@ -18,6 +18,7 @@ the world knew (objects lost, wall time with set-up) come from it alone.
 from __future__ import annotations
 
 import json
+import math
 import os
 from collections import Counter
 from dataclasses import dataclass
@@ -291,6 +292,8 @@ def _from_events(trace: Trace) -> dict:
         else {"median": 0.0, "max": 0.0},
         "wrs_score": wrs_score(trace.events, limit),
         "time_limit_s": limit,
+        # what the same run would score had the referee no clock: how much the time limit cost
+        "wrs_score_at_end": wrs_score(trace.events, math.inf),
         "plans": plan_rows(trace),
         "warnings": [str(w) for w in trace.warnings],
     }

@@ -569,6 +569,7 @@
     fig("deliveries", pairs(s.strata));
     fig("recoveries", s.recoveries + " (class " + pairs(s.recovery_steps.by_class) + "; exhausted " + s.recovery_steps.exhausted + ")");
     fig("assumptions", s.assumptions.made + " made, " + s.assumptions.confirmed + " confirmed, " + s.assumptions.contradicted + " contradicted");
+    fig("WRS score", s.wrs_score + " within " + s.time_limit_s + " s (" + s.wrs_score_at_end + " at the end)");
     fig("distance", num(s.distance_m, 2) + " m");
     fig("time", num(s.sim_time_s, 1) + " s simulated, " + num(s.wall_time_s, 2) + " s wall");
     fig("planning", "median " + num(s.replan_time_s.median, 2) + " s, max " + num(s.replan_time_s.max, 2) + " s");
