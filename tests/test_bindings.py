@@ -172,7 +172,7 @@ def test_the_executor_binds_arguments_by_parameter_name():
     case3 = load(project_file("problems/case3.toml"))
     belief = Belief(case3, RoomMap(case3))
     snap = write(belief, belief.facts(), [], [], "t")
-    ctx = Context(None, belief, lambda d, w: [])
+    ctx = Context(None, belief, lambda d, w, why="": [])
     executor = MonitoredExecutor(None, domain=parse(swapped, "swapped.pddl"))
     units = executor.units(Step("take_object", ("wp-entrance", "cup"), False, 1, 0.95, 1.0), snap, ctx)
     assert [type(u) for u in units] == [AdjustBase, Grasp]

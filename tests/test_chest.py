@@ -231,7 +231,7 @@ def test_an_open_drawer_is_furniture_in_the_robots_map_and_in_the_symbolic_world
     assert belief.drawers_out() == [] and top.out_box(0.0) is None
     inside = top.point(0.15)  # on the drawer's middle line, 0.15 m out of the carcass
     near = top.point(0.45)  # where the base's centre clears the closed drawer, not the open one
-    ctx = Context(None, belief, lambda d, w: [])
+    ctx = Context(None, belief, lambda d, w, why="": [])
     assert room.grid(ctx.floor(), bare=True).free(*near)
     before = belief.facts()
     belief.drawer_seen("drawer-top", top.spec.travel, True)

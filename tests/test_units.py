@@ -108,7 +108,7 @@ def test_an_item_forgotten_by_a_later_look_of_the_same_action_is_not_reported_ne
     world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
     looks = iter([[Detection("toy", 0.9, 1.6, "floor")], []])
 
-    def observe(_detections, waypoint):
+    def observe(_detections, waypoint, why=""):
         update = belief.observe(next(looks), waypoint)
         return update.new
 
@@ -230,7 +230,7 @@ def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():
     name = belief.observe([Detection("toy", 1.5, 1.0, "floor", 0.45, 0.19, 0.19)], None).new[0]
     assert world.grasp((1.5, 1.0)).ok
     belief.taken(name)
-    unit = PutDown(Context(world, belief, lambda d, w: []), name)
+    unit = PutDown(Context(world, belief, lambda d, w, why="": []), name)
     assert unit.check() is None and unit.plan() is None
     assert math.dist(unit.spot, world.robot) >= room.nav_radius + math.hypot(0.45, 0.19) / 2
     for turned in ((0.45, 0.19), (0.19, 0.45)):  # lying along x or along y: the robot can still go
@@ -258,7 +258,7 @@ def test_a_drive_does_not_step_back_to_the_centre_of_the_cell_the_robot_stands_i
     belief = Belief(scenario, room)
     belief.robot = pose
     goal = (pose[0] + 1.0, pose[1])
-    unit = Navigate(Context(world, belief, lambda d, w: []), goal, "wp-east")
+    unit = Navigate(Context(world, belief, lambda d, w, why="": []), goal, "wp-east")
     assert unit.plan() is None
     assert unit.path[0] == pose and all(math.dist(q, centre) > 1e-6 for q in unit.path)
     assert unit.do(StateMonitor()) is None and world.robot == goal
@@ -275,7 +275,7 @@ def test_after_a_bump_the_close_look_goes_where_the_base_touched_else_along_its_
 
     scenario = _scenario("bump", [("t1", 1.0, 1.0)])
     world = SymbolicWorld(scenario, RoomMap(scenario), seed=0, rates=EXACT)
-    unit = Navigate(Context(world, None, lambda d, w: []), (2.0, 1.0), "wp-east")
+    unit = Navigate(Context(world, None, lambda d, w, why="": []), (2.0, 1.0), "wp-east")
     unit.path = [(round(1.0 + 0.05 * k, 2), 1.0) for k in range(21)]  # cell centres, as planned
     here = (1.2, 1.0)
     assert unit._ahead(here) == pytest.approx((1.2 + BUMP_AHEAD, 1.0))
@@ -307,3 +307,27 @@ def test_an_item_the_arm_did_not_reach_is_grasped_from_another_pose_next_time():
         belief.robot = pose
         belief.unreached(name)
     assert name in belief.items  # not forgotten: it is there, only not from those poses
+
+
+def test_each_look_after_an_action_says_what_it_was_for():
+    """A sweep's expected finds: the items nobody has found, spread over the placement points
+    nobody has seen, the share of them in view, at the detector's hit rate. The trace says why
+    each look was taken, so a look that could find nothing shows as one."""
+    from tidyplan.belief.state import Belief, Detection
+    from tidyplan.exec.units import Context, Look
+
+    scenario = _scenario("why", [("t1", 1.8, 1.0), ("t2", 0.6, 2.6)])  # told of two toys
+    room = RoomMap(scenario)
+    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
+    belief = Belief(scenario, room)
+    belief.robot = world.robot
+    ctx = Context(world, belief, lambda d, w, why="": [])
+    assert belief.look_finds(world.robot) > 0.05  # nothing seen yet, two toys expected
+    assert Look(ctx, None).why().startswith("unseen space in view: ")
+    assert Look(ctx, None, after_failure=True).why() == "after a failure: what changed?"
+    belief.observe([Detection("toy", 1.8, 1.0, "floor"), Detection("toy", 0.6, 2.6, "floor")], None)
+    assert belief.virtual() == [] and belief.look_finds(world.robot) == 0.0  # both found
+    assert Look(ctx, None).why() == "for the monitor: what moved, what nobody announced"
+    tall = belief.observe([Detection("toy", 1.2, 1.2, "floor", 0.3, 0.3, 0.45)], None).new[0]
+    belief.items[tall].state, belief.holding = "held", tall
+    assert Look(ctx, None, took=tall).why().startswith(f"{tall} (0.45 m tall) taken away")

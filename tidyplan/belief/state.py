@@ -457,6 +457,18 @@ class Belief:
                 out[name] = round(share, 4)
         return out
 
+    def look_finds(self, at: Point) -> float:
+        """How many of the items nobody has found (the virtual objects) a sweep from ``at`` is
+        expected to find: spread uniformly over the placement points nobody has seen (as
+        ``p_item_near``), the share of them in view, each seen at the detector's hit rate."""
+        missing = len(self.virtual())
+        unseen = ~self.seen
+        total = int(unseen.sum())
+        if missing == 0 or total == 0:
+            return 0.0
+        share = float((self._view(at) & unseen).sum()) / total
+        return missing * share * (1.0 - self.scenario.sensing.false_negative)
+
     def reset_exploration(self) -> None:
         """Forget what was seen: the floor changed, so views that were blocked may be open now."""
         self.seen[:] = False

@@ -98,11 +98,13 @@ class MonitoredExecutor:
         def emit(kind, **fields):
             self.emit(kind, action=text, **fields)
 
+        held = ctx.belief.holding
         result = Runner(self.config, emit).run(list(units))
         if not result.ok and result.where is not None:
             result.where.learn(result.failure)
         here = _waypoint_at(snapshot, ctx.belief)
-        Runner(self.config, emit).run([Look(ctx, here)])
+        took = ctx.belief.holding if ctx.belief.holding != held else None
+        Runner(self.config, emit).run([Look(ctx, here, after_failure=not result.ok, took=took)])
         return Report(
             result.ok,
             None if result.ok else result.failure.what,

@@ -18,14 +18,16 @@ class Context:
 
     world: Skills
     belief: Belief
-    observe: object  # observe(detections, waypoint) -> names of new items (the loop's)
+    observe: object  # observe(detections, waypoint, why) -> names of new items (the loop's)
     new: list[str] = field(default_factory=list)
     start: Point | None = None  # the waypoint the action starts from, where the map has it
 
-    def look(self, waypoint: str | None = None) -> None:
+    def look(self, waypoint: str | None = None, why: str = "") -> None:
+        """A head sweep from where the robot stands; ``why`` it was taken, for the trace."""
         # an item first seen by an earlier look of this action may be forgotten by this one (a
         # false detection the next looks did not confirm): it is no longer new
-        self.new = [n for n in self.new + self.observe(self.world.look(), waypoint) if n in self.belief.items]
+        seen = self.observe(self.world.look(), waypoint, why)
+        self.new = [n for n in self.new + seen if n in self.belief.items]
 
     def floor(self, without: str | None = None):
         """What the base must keep clear of beyond the furniture: the floor items (but

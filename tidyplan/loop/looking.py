@@ -26,7 +26,7 @@ LOOKS_INTO = 5
 
 class Excursions:
     """The moves and looks the loop makes outside any plan, each run by the executor (the loop's
-    door to the robot) and traced as an action of its own: ``observe(detections, waypoint)`` takes
+    door to the robot) and traced as an action of its own: ``observe(detections, waypoint, why)`` takes
     in what the looks on the way saw, ``emit`` traces, ``count`` counts the actions."""
 
     def __init__(self, belief: Belief, executor, observe, emit, count) -> None:

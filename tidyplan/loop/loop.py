@@ -140,7 +140,7 @@ class Mission:
             time_limit_s=self.config.time_limit_s,
             drawers=[d.name for d in scenario.deposits if d.drawer],  # for the score's drawers bonus
         )
-        self._observe(self.executor.look(), "wp-entrance")
+        self._observe(self.executor.look(), "wp-entrance", "the first look")
         ending = self._replan(Cause.INITIAL)
         while ending is None:
             ending = self._tick()
@@ -318,7 +318,7 @@ class Mission:
             # there (a false detection) is forgotten after a few looks that should have seen it.
             self._looks_left -= 1
             self.trace.emit("look_again", looks_left=self._looks_left)
-            self._observe(self.executor.look(), None)
+            self._observe(self.executor.look(), None, "no plan: an item in the way may not be there")
             return self._replan(cause, why)
         if self._go_and_look():
             return self._replan(cause, why)
@@ -395,12 +395,13 @@ class Mission:
         kept = {a for a in self.belief.memory if a[0] not in self._remembered}
         self.belief.memory = kept | {a for a in after if a[0] in self._remembered}
 
-    def _observe(self, detections, waypoint) -> list[str]:
+    def _observe(self, detections, waypoint, why: str = "") -> list[str]:
         update = self.belief.observe(detections, waypoint)
         if detections or update.new or update.forgotten:
             self.trace.emit(
                 "observe",
                 waypoint=waypoint,
+                why=why,
                 seen=len(detections),
                 new=update.new,
                 confirmed=update.confirmed,
