@@ -169,10 +169,9 @@
     :parameters (?from ?to - waypoint)
     :stratum 2
     :units ((adjust_pose ?to))
-    ;; also before a move back: out of a tight pose, where an object was dropped or a move back
-    ;; was stopped short, a move back has no path (case III, seed 1: no plan at all)
     :precondition (and (robot-at ?from)
-                       (pose-adjustment ?from ?to))
+                       (pose-adjustment ?from ?to)
+                       (not (must-move-back)))
     :effect (and (robot-at ?to)
                  (not (robot-at ?from))
                  (increase (total-cost) (distance ?from ?to))))

@@ -122,26 +122,3 @@ def test_a_scenario_fact_the_domain_cannot_hold_is_refused_before_the_world_star
         with pytest.raises(tidyplan.InputError) as err:
             tidyplan.run(path, world="symbolic")
         assert f"{path}: facts[0] {fact}: {why}" in str(err.value)
-
-
-def test_an_item_held_in_a_tight_pose_is_put_aside_where_the_pose_adjustment_leads_out():
-    """Algorithm 1's free space nearby for the item in the hand, when no removal waypoint is open
-    from here: beside the robot. In a tight pose, whose only way out is its pose adjustment, that
-    is the adjustment's end: dropped at the tight pose, move_back had no path out and there was no
-    plan at all (case III, symbolic, seed 1, the robot boxed in by a box in the corridor)."""
-    from tidyplan.belief.geometry import MapFacts
-    from tidyplan.belief.problem import removal_choices
-
-    scenario = load(Path(__file__).parents[1] / "problems" / "case3.toml")
-    belief = Belief(scenario, RoomMap(scenario))
-    belief.holding = "task-1"
-    facts = MapFacts(
-        points={"wp-robot": (-1.57, -1.57), "wp-robot-base": (-1.52, -1.57), "vp-south": (-0.92, -1.12)},
-        kind={"wp-robot": "robot", "wp-robot-base": "adjust", "vp-south": "viewpoint"},
-    )
-    facts.adjust[("wp-robot", "wp-robot-base")] = facts.adjust[("wp-robot-base", "wp-robot")] = 0.05
-    facts.blocked[("wp-robot-base", "vp-south")] = 0.8  # the way out shut by the box
-    assert removal_choices(facts, belief, "wp-robot")["task-1"] == "wp-robot-base"
-    facts.path[("wp-robot", "vp-south")] = 0.9  # a pose with a path of its own is no tight one
-    belief.reached.add("vp-south")
-    assert removal_choices(facts, belief, "wp-robot")["task-1"] == "vp-south"

@@ -331,30 +331,3 @@ def test_each_look_after_an_action_says_what_it_was_for():
     tall = belief.observe([Detection("toy", 1.2, 1.2, "floor", 0.3, 0.3, 0.45)], None).new[0]
     belief.items[tall].state, belief.holding = "held", tall
     assert Look(ctx, None, took=tall).why().startswith(f"{tall} (0.45 m tall) taken away")
-
-
-def test_the_grasp_takes_the_place_a_close_look_of_the_same_action_found_from_the_same_pose():
-    """adjust_base finds the item close up; where the base did not move, the grasp's look would
-    see the same (in pybullet 6.6 s a take): it takes that place. Moved, or after a grasp that
-    touched the item, it looks again."""
-    from tidyplan.belief.state import Belief, Detection
-    from tidyplan.exec.units import AdjustBase, Context, Grasp
-
-    scenario = _scenario("reuse", [("t1", 1.5, 1.0)])
-    room = RoomMap(scenario)
-    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
-    world.robot = (1.5, 1.45)
-    belief = Belief(scenario, room)
-    belief.robot = world.robot
-    name = belief.observe([Detection("toy", 1.5, 1.0, "floor")], None).new[0]
-    looks = []
-    real = world.locate
-    world.locate = lambda *a, **k: looks.append(a) or real(*a, **k)
-    ctx = Context(world, belief, lambda d, w, why="": [])
-    adjust, grasp = AdjustBase(ctx, name), Grasp(ctx, name)
-    assert adjust.check() is None and grasp.check() is None and len(looks) == 1
-    assert grasp.target == adjust.target
-    world.robot = (1.5, 1.4)  # the base moved: look again
-    assert grasp.check() is None and len(looks) == 2
-    assert grasp.do(StateMonitor()) is None and world.holds()
-    assert name not in ctx.located  # taken: a later look is a new one

@@ -86,12 +86,8 @@ def removal_choices(facts: MapFacts, belief: Belief, robot_wp: str) -> dict[str,
     if held is not None and (out.get(held) is None or (robot_wp, out[held]) not in facts.path):
         # No removal waypoint open from here: the item in the way of it needs a free hand first.
         # Algorithm 1's "a free space nearby" is then beside the robot (case III had the robot
-        # hold a tool it could neither deliver nor put aside, both ways shut by a box). From a
-        # tight pose, with no path out but its adjustment, beside it at the adjustment's end: a
-        # drop at the tight pose left no way back (case III, symbolic, seed 1: no plan at all)
-        base = robot_wp + "-base"
-        tight = (robot_wp, base) in facts.adjust and not any(a == robot_wp for a, _ in facts.path)
-        out[held] = base if tight else robot_wp
+        # hold a tool it could neither deliver nor put aside, both ways shut by a box).
+        out[held] = robot_wp
     return out
 
 

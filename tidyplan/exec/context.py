@@ -21,9 +21,6 @@ class Context:
     observe: object  # observe(detections, waypoint, why) -> names of new items (the loop's)
     new: list[str] = field(default_factory=list)
     start: Point | None = None  # the waypoint the action starts from, where the map has it
-    # item -> (where a close look found it, the reach for it, the base's pose then): a unit of
-    # the same action that would look again from the same pose takes it from here
-    located: dict[str, tuple[Point, tuple[float, float, float], Point]] = field(default_factory=dict)
 
     def look(self, waypoint: str | None = None, why: str = "") -> None:
         """A head sweep from where the robot stands; ``why`` it was taken, for the trace."""

@@ -224,7 +224,6 @@ class Grasp(Unit):
 
     def do(self, monitor: StateMonitor):
         out = self.ctx.world.grasp(self.target)
-        self.ctx.located.pop(self.item, None)  # taken, or touched: a retry looks again
         if not out.ok:
             return Failure(B, out.failure or "grasp_fail")
         if not self.ctx.world.holds():
@@ -396,19 +395,12 @@ def _locate(ctx: Context, item: str, unit) -> Failure | None:
     k = ctx.belief.items.get(item)
     if k is None:
         return Failure(A, "not_found", f"{item} is not in the belief")
-    pose = ctx.world.pose()
-    found = ctx.located.get(item)
-    if found is not None and math.dist(found[2], pose) < 0.01:
-        unit.target, unit.reach = found[0], found[1]
-        return None
     seen = ctx.world.locate((k.x, k.y), max(FIND_RADIUS, k.spread), k.category)
     if seen is None:
-        ctx.located.pop(item, None)
         return Failure(A, "not_found", f"no {k.category} near ({k.x:.2f}, {k.y:.2f})")
     ctx.belief.relocate(item, seen.x, seen.y, (seen.sx, seen.sy, seen.sz), oriented=seen.down is not None)
     unit.target = (seen.x, seen.y)
     unit.reach = ctx.world.grasp_distances(seen.sz)
-    ctx.located[item] = (unit.target, unit.reach, pose)
     return None
 
 
