@@ -359,6 +359,13 @@ def drawer_layout(furniture: Iterable[Furniture], deposit: Deposit) -> DrawerLay
     return None
 
 
+def out_boxes(layouts: dict[str, DrawerLayout], openings: dict[str, float]) -> list[Box]:
+    """The open drawers' boxes out of their carcasses (``DrawerLayout.out_box``), named by
+    deposit, each out by ``openings[name]``: furniture for the base as long as they are out."""
+    boxes = (x.out_box(openings[n], n) for n, x in sorted(layouts.items()))
+    return [b for b in boxes if b is not None]
+
+
 def shared_carcass_problems(a: DrawerLayout, b: DrawerLayout) -> str | None:
     """Why two drawers of one carcass cannot both be built: they must slide out of the same face
     (the carcass is one body with its slots in that face) and their slots must not overlap."""

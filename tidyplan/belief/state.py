@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sim.grid import Box
-from sim.scenario.model import DrawerLayout, Scenario, drawer_layout
+from sim.scenario.model import DrawerLayout, Scenario, drawer_layout, out_boxes
 from sim.visibility import Box3, visible, visible_points
 from tidyplan.belief import viewpoints
 from tidyplan.belief.geometry import ENTRANCE, MapFacts, Placed, RoomMap
@@ -208,8 +208,7 @@ class Belief:
 
     def drawers_out(self) -> list[Box]:
         """The open drawers' boxes out of their carcasses, as last seen: furniture for the base."""
-        boxes = (x.out_box(self.drawer_out[n], n) for n, x in sorted(self.drawers.items()))
-        return [b for b in boxes if b is not None]
+        return out_boxes(self.drawers, self.drawer_out)
 
     # ------------------------------------------------------------------ updates
     def drawer_seen(self, deposit: str, opening: float, is_open: bool) -> None:
@@ -460,9 +459,16 @@ class Belief:
     def look_finds(self, at: Point) -> float:
         """How many of the items nobody has found (the virtual objects) a sweep from ``at`` is
         expected to find: spread uniformly over the placement points nobody has seen (as
-        ``p_item_near``), the share of them in view, each seen at the detector's hit rate."""
-        missing = len(self.virtual())
+        ``p_item_near``), the share of them in view, each seen at the detector's hit rate. Asked
+        after every action, for the trace's ``why``: without a prior it counts one per category
+        while some space is unseen (as ``virtual``) without ``virtual``'s map facts, which the
+        action has made stale."""
         unseen = ~self.seen
+        if self.prior is None:
+            missing = len(self.categories)
+        else:
+            have = Counter(k.category for k in self.items.values())
+            missing = sum(max(0, self.prior[c] - have[c]) for c in self.categories)
         total = int(unseen.sum())
         if missing == 0 or total == 0:
             return 0.0

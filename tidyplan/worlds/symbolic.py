@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 
 from sim.grid import Box
-from sim.scenario.model import ORIENTATION, DrawerLayout, Scenario, drawer_layout
+from sim.scenario.model import ORIENTATION, DrawerLayout, Scenario, drawer_layout, out_boxes
 from sim.visibility import Box3, visible
 from tidyplan.belief.geometry import GRASP_MAX, RoomMap, free_spots
 from tidyplan.belief.state import Detection
@@ -118,8 +118,7 @@ class SymbolicWorld(WorldReferee):
         n = len(path)
         block_at, drop_at = self._faults_on_path(n)
         floor = [self._box(o) for o in self._placed() if o.on == "floor"]
-        out = (x.out_box(self.opened[n], n) for n, x in sorted(self.drawers.items()))
-        bare = self.room.grid(floor + [b for b in out if b is not None], bare=True)
+        bare = self.room.grid(floor + out_boxes(self.drawers, self.opened), bare=True)
         metres = seconds = 0.0
         for k in range(1, n):
             if k == block_at or not _segment_free(bare, path[k - 1], path[k]):
