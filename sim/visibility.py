@@ -28,6 +28,10 @@ from sim.scenario.model import Furniture, Item, Scenario
 
 Point3 = tuple[float, float, float]
 
+# The head's tilt while the robot drives and works (sim.robot.CAMERA_TILT, -0.35 rad): a frame
+# taken then shows from this many degrees below the horizon, give or take half the vertical field
+GLANCE_TILT_DEG = math.degrees(0.35)
+
 
 @dataclass(frozen=True, slots=True)
 class Box3:
@@ -145,6 +149,27 @@ def in_field_of_view(
         return True
     off = (math.atan2(dy, dx) - heading_rad + math.pi) % (2 * math.pi) - math.pi
     return abs(off) <= math.radians(fov_h_deg) / 2
+
+
+def in_frame(
+    camera_xy: tuple[float, float],
+    heading_rad: float,
+    xy: np.ndarray,
+    z: np.ndarray,
+    sensing,
+    width: float = 1.0,
+    edge_deg: float = 0.0,
+) -> np.ndarray:
+    """Which points (``xy`` (N, 2), heights ``z``) lie in the field of one frame from a lens at
+    ``camera_xy`` (``sensing.camera_height`` up) looking along ``heading_rad``, tilted
+    GLANCE_TILT_DEG down: range and occlusion aside. ``width`` keeps that share of the field's
+    width, ``edge_deg`` stays that far inside its top and foot."""
+    dx, dy = xy[:, 0] - camera_xy[0], xy[:, 1] - camera_xy[1]
+    bearing = np.degrees((np.arctan2(dy, dx) - heading_rad + math.pi) % (2 * math.pi) - math.pi)
+    down = np.degrees(np.arctan2(sensing.camera_height - z, np.hypot(dx, dy)))
+    lo = GLANCE_TILT_DEG - sensing.fov_v_deg / 2 + edge_deg
+    hi = GLANCE_TILT_DEG + sensing.fov_v_deg / 2 - edge_deg
+    return (np.abs(bearing) <= width * sensing.fov_h_deg / 2) & (down >= lo) & (down <= hi)
 
 
 def visible_items(

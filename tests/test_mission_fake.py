@@ -19,7 +19,7 @@ import pytest
 
 from sim.scenario.read import loads
 from tidyplan.belief.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
-from tidyplan.belief.state import Belief, Detection
+from tidyplan.belief.state import Belief, Detection, Frame
 from tidyplan.exec.bindings import MonitoredExecutor
 from tidyplan.loop.loop import Mission
 from tidyplan.loop.scenarios import DOMAIN
@@ -75,6 +75,13 @@ class FakeWorld:
     # senses
     def look(self) -> list[Detection]:
         self.odometer.sim_time_s += 1.0
+        return self._shown()
+
+    def glance(self) -> list[Frame]:
+        # the camera on the way shows what a sweep would, in no time: the fake sees all around
+        return [Frame(self.robot, None, self._shown())]
+
+    def _shown(self) -> list[Detection]:
         return [self._seen(o) for o in self._placed() + self.phantoms if o.name not in self.hidden]
 
     def look_into(self, deposit: str) -> list[Detection]:

@@ -33,7 +33,7 @@ import numpy as np
 
 from sim.grid import Box
 from sim.scenario.model import DrawerLayout, Scenario, drawer_layout, out_boxes
-from sim.visibility import Box3, visible, visible_points
+from sim.visibility import Box3, in_frame, visible, visible_points
 from tidyplan.belief import viewpoints
 from tidyplan.belief.geometry import ENTRANCE, MapFacts, Placed, RoomMap
 
@@ -91,6 +91,22 @@ class Detection:
     # an orientation item (WRS Task 1's markers, fork and spoon): the direction, in the room, of
     # the end that must go down; None for any other object
     down: tuple[float, float, float] | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Frame:
+    """One camera frame the robot took on its way (driving, or at work), at no cost in time: the
+    camera runs while the robot moves. Where the lens stood (x, y), which way it looked (rad, the
+    room's frame; tilted ``sim.visibility.GLANCE_TILT_DEG`` down), what the detector reported."""
+
+    at: Point
+    heading: float | None  # None: a camera that sees all around (a fake world's)
+    detections: list[Detection]
+
+
+# Of a frame's field, the part where a miss counts (its edges cut objects, and the head's pan
+# lags the base's turn): the central share of the width, and this many degrees inside its top and foot
+MISS_WIDTH, MISS_EDGE_DEG = 0.8, 3.0
 
 
 @dataclass(slots=True)
@@ -223,11 +239,20 @@ class Belief:
         self.robot, self.robot_wp = point, waypoint
         self.reached.add(waypoint)
 
-    def observe(self, detections: list[Detection], waypoint: str | None) -> Update:
-        """A look from where the robot stands: add, confirm and forget items; mark space seen."""
+    def observe(
+        self, detections: list[Detection], waypoint: str | None, frame: Frame | None = None
+    ) -> Update:
+        """A sweep from where the robot stands, or one ``frame`` taken on the way (``detections``
+        are then the frame's): add, confirm and forget items; mark the space it showed seen. A
+        frame shows, and counts misses in, its own field only."""
         update = Update()
-        view = self._view(self.robot)
-        self.seen |= view
+        at = self.robot if frame is None else frame.at
+        wedge = frame is not None and frame.heading is not None
+        if not wedge:
+            self.seen |= self._view(at)
+        else:
+            field = self._in_frame(at, frame.heading, self._targets[:, :2], self._targets[:, 2])
+            self.seen[np.flatnonzero(field)[self._frame_view(at, field)]] = True
         if waypoint is not None:
             self.looked_from.add(waypoint)
         matched: set[str] = set()
@@ -251,7 +276,9 @@ class Belief:
             matched.add(name)
             update.new.append(name)
         for k in self.untidied():
-            if k.state != "placed" or k.name in matched or not self.should_see(k):
+            if k.state != "placed" or k.name in matched or not self.should_see(k, at):
+                continue
+            if wedge and not self._in_frame(at, frame.heading, *self._xyz(k), miss=True)[0]:
                 continue
             k.misses += 1
             if k.misses >= FORGET_AFTER:
@@ -428,6 +455,26 @@ class Belief:
             self._box3(o) for o in self.untidied() if o.state == "placed" and o is not k
         ]
         return visible(self._camera(at), (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max)
+
+    def _xyz(self, k: Known) -> tuple[np.ndarray, np.ndarray]:
+        z = 0.05 if k.on == "floor" else self.scenario.furniture_named(k.on).height + 0.05
+        return np.array([[k.x, k.y]]), np.array([z])
+
+    def _in_frame(
+        self, at: Point, heading: float, xy: np.ndarray, z: np.ndarray, miss: bool = False
+    ) -> np.ndarray:
+        """``sim.visibility.in_frame``; ``miss``: only the part where a miss counts."""
+        width, edge = (MISS_WIDTH, MISS_EDGE_DEG) if miss else (1.0, 0.0)
+        return in_frame(at, heading, xy, z, self.scenario.sensing, width, edge)
+
+    def _frame_view(self, at: Point, field: np.ndarray) -> np.ndarray:
+        """Of the placement points in a frame's ``field``, those in range and line of sight."""
+        s = self.scenario.sensing
+        support = [self._support[n] for n in np.flatnonzero(field)]
+        return visible_points(
+            self._camera(at), self._targets[field], self._occluders, support,
+            range_min=s.range_min, range_max=s.range_max,
+        )  # fmt: skip
 
     def _box3(self, k: Known) -> Box3:
         return Box3.from_item(k, 0.0 if k.on == "floor" else self.scenario.furniture_named(k.on).height)

@@ -18,7 +18,8 @@ class Context:
 
     world: Skills
     belief: Belief
-    observe: object  # observe(detections, waypoint, why) -> names of new items (the loop's)
+    # observe(detections, waypoint, why, frames=None) -> names of new items (the loop's)
+    observe: object
     new: list[str] = field(default_factory=list)
     start: Point | None = None  # the waypoint the action starts from, where the map has it
 
@@ -27,6 +28,12 @@ class Context:
         # an item first seen by an earlier look of this action may be forgotten by this one (a
         # false detection the next looks did not confirm): it is no longer new
         seen = self.observe(self.world.look(), waypoint, why)
+        self.new = [n for n in self.new + seen if n in self.belief.items]
+
+    def glance(self, why: str) -> None:
+        """The frames the camera took on the way and one from here (``Skills.glance``): no time
+        of their own; ``why``, for the trace."""
+        seen = self.observe([], None, why, frames=self.world.glance())
         self.new = [n for n in self.new + seen if n in self.belief.items]
 
     def floor(self, without: str | None = None):

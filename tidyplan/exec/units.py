@@ -324,14 +324,13 @@ class Place(Unit):
 
 
 class Look(Unit):
-    """observing: a head-camera sweep from where the robot stands, after every action, and the
-    trace says what it was for (``why``): after a failure (what changed?), at a viewpoint the plan
-    came to look from, where it is expected to find MIN_FINDS items nobody has found yet, where an
-    item tall enough to hide another (HIDES) was just taken away; else only for the monitor (what
-    moved, what the prior did not announce). Those last ones are most of them, and in pybullet a
-    sweep is 10 s: left out, a Task 1 room took 2075 s instead of 3567 s, but the monitor's
-    triggers (i), (ii) and (v) then go unseen until the camera sees while the robot drives (the
-    robot against the clock, point 2)."""
+    """observing, after every action: the frames the camera took on the way and one from where
+    the robot stands (a glance: no time of its own), for the monitor (what moved, what nobody
+    announced); then a head sweep only where one pays, and the trace says why (``why``): after
+    a failure (what changed?), where an item tall enough to hide another (HIDES) was just taken
+    away, at a viewpoint the plan came to look from, or where the sweep is expected to find
+    MIN_FINDS items nobody has found yet. In pybullet a sweep is 10 s: one after every action took
+    a Task 1 room 3567 s, where 1284 s of it were sweeps that only the monitor asked for."""
 
     name, phase = LOOK, "observe"
 
@@ -341,10 +340,14 @@ class Look(Unit):
         self.ctx, self.waypoint, self.after_failure, self.took = ctx, waypoint, after_failure, took
 
     def do(self, monitor: StateMonitor):
-        self.ctx.look(self.waypoint, self.why())
+        self.ctx.glance(GLANCE_WHY)
+        why = self.why()
+        if why is not None:
+            self.ctx.look(self.waypoint, why)
         return None
 
-    def why(self) -> str:
+    def why(self) -> str | None:
+        """Why a sweep pays here, or None where the glance is enough."""
         if self.after_failure:
             return "after a failure: what changed?"
         belief = self.ctx.belief
@@ -357,7 +360,10 @@ class Look(Unit):
             return f"a viewpoint: {finds:.2f} items expected found"
         if finds >= MIN_FINDS:
             return f"unseen space in view: {finds:.2f} items expected found"
-        return "for the monitor: what moved, what nobody announced"
+        return None
+
+
+GLANCE_WHY = "frames on the way: for the monitor, what moved, what nobody announced"
 
 
 def _drive(ctx: Context, unit, path: list[Point], monitor: StateMonitor, careful: bool) -> Failure | None:

@@ -395,20 +395,31 @@ class Mission:
         kept = {a for a in self.belief.memory if a[0] not in self._remembered}
         self.belief.memory = kept | {a for a in after if a[0] in self._remembered}
 
-    def _observe(self, detections, waypoint, why: str = "") -> list[str]:
-        update = self.belief.observe(detections, waypoint)
-        if detections or update.new or update.forgotten:
+    def _observe(self, detections, waypoint, why: str = "", frames=None) -> list[str]:
+        """A sweep's ``detections`` from ``waypoint``, or the ``frames`` of a glance (each with
+        its own detections, from its own place), into the belief; one trace event for them."""
+        if frames is None:
+            updates, seen = [self.belief.observe(detections, waypoint)], len(detections)
+        else:
+            updates = [self.belief.observe(f.detections, None, f) for f in frames]
+            seen = sum(len(f.detections) for f in frames)
+        new = [n for u in updates for n in u.new]
+        forgotten = [n for u in updates for n in u.forgotten]
+        if seen or new or forgotten:
+            confirmed = list(dict.fromkeys(n for u in updates for n in u.confirmed))
+            fields = {} if frames is None else {"frames": len(frames)}
             self.trace.emit(
                 "observe",
                 waypoint=waypoint,
                 why=why,
-                seen=len(detections),
-                new=update.new,
-                confirmed=update.confirmed,
-                forgotten=update.forgotten,
-                overlapping=update.overlapping,
+                seen=seen,
+                new=new,
+                confirmed=confirmed,
+                forgotten=forgotten,
+                overlapping=list(dict.fromkeys(n for u in updates for n in u.overlapping)),
+                **fields,
             )
-        return update.new
+        return [n for n in new if n in self.belief.items]
 
     def _bind(self, new: list[str]) -> list[str]:
         """Bind new items to the plan's virtual objects (``triggers.bind``); the rest the plan

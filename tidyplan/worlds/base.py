@@ -16,7 +16,7 @@ import numpy as np
 
 from sim.scenario.model import Scenario
 from tidyplan.belief.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
-from tidyplan.belief.state import Detection
+from tidyplan.belief.state import Detection, Frame
 from tidyplan.worlds.contract import Odometer, Outcome, Referee, Skills, TrueItem, World
 from tidyplan.worlds.rates import Rates
 
@@ -29,6 +29,9 @@ LOOK_INTO_S = 2.0  # s: the head tilts to the deposit and the detector runs (as 
 PULL_SPEED = 0.1
 JAM_SHARE = (0.3, 0.7)  # of its travel: where a drawer that jams sticks
 TAKE_TOLERANCE = 0.15  # m: the gripper closes on an item this close to where it was located
+# m driven between the frames the camera keeps on the way (it runs at 30 Hz; a frame each half
+# metre is enough at 0.22 m/s: consecutive 58 deg frames overlap from 0.5 m out)
+FRAME_EVERY = 0.5
 
 
 class WorldReferee:
@@ -54,6 +57,22 @@ class WorldReferee:
             for i in scenario.items
         }
         self.holding: str | None = None
+        self._frames: list[Frame] = []  # taken on the way since the last glance
+        # a frame's misses from a stream of their own: how many frames a path holds never shifts
+        # the faults the world draws
+        self.frame_rng = np.random.default_rng([seed, 1])
+
+    def glance(self) -> list[Frame]:
+        """The frames the camera took on the way since the last glance, and one from where the
+        robot stands now, as the head looks: no time of their own (the camera runs while the
+        robot drives and works). A frame reports no phantoms: the detector keeps a detection
+        only when consecutive frames agree, and a false one does not persist."""
+        frames, self._frames = self._frames + [self._frame()], []
+        return frames
+
+    def _frame(self) -> Frame:
+        """What the camera shows now, as the head looks (each world's own)."""
+        raise NotImplementedError
 
     def untidied(self) -> list[str]:
         """Items not in a deposit of their category (an unknown object's: the deposits for

@@ -13,7 +13,7 @@ from typing import Protocol, runtime_checkable
 
 from sim.scenario.model import Orientation
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.belief.state import Detection
+from tidyplan.belief.state import Detection, Frame
 
 Point = tuple[float, float]
 
@@ -105,6 +105,11 @@ class Skills(Protocol):
     def put_down(self, spot: Point) -> Outcome: ...
 
     def look(self) -> list[Detection]: ...
+
+    def glance(self) -> list[Frame]:
+        """The frames the camera took on the way since the last glance, and one from here as the
+        head looks now: no time of their own (the camera runs while the robot moves)."""
+        ...
 
     def look_into(self, deposit: str) -> list[Detection]: ...
 

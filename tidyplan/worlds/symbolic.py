@@ -27,12 +27,23 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from sim.grid import Box
 from sim.scenario.model import ORIENTATION, DrawerLayout, Scenario, drawer_layout, out_boxes
-from sim.visibility import Box3, visible
+from sim.visibility import Box3, in_frame, visible
 from tidyplan.belief.geometry import GRASP_MAX, RoomMap, free_spots
-from tidyplan.belief.state import Detection
-from tidyplan.worlds.base import PULL_SPEED, TAKE_TOLERANCE, Odometer, Outcome, Rates, TrueItem, WorldReferee
+from tidyplan.belief.state import Detection, Frame
+from tidyplan.worlds.base import (
+    FRAME_EVERY,
+    PULL_SPEED,
+    TAKE_TOLERANCE,
+    Odometer,
+    Outcome,
+    Rates,
+    TrueItem,
+    WorldReferee,
+)
 
 Point = tuple[float, float]
 
@@ -56,6 +67,7 @@ class SymbolicWorld(WorldReferee):
     ) -> None:
         super().__init__(scenario, room, seed, rates)
         self.robot: Point = room.entrance
+        self.heading = 0.0  # rad: which way the head looks (the way it drives, or at its work)
         self.odometer = Odometer(track=[self.robot])
         self._furniture = [Box3.from_furniture(f) for f in scenario.furniture]
         layouts = {d.name: drawer_layout(scenario.furniture, d) for d in scenario.deposits}
@@ -81,12 +93,35 @@ class SymbolicWorld(WorldReferee):
                 out.append(it.seen(it.x, it.y))
         return out + self._phantom()
 
+    def _frame(self) -> Frame:
+        """Items in the frame's field, range and line of sight; each missed at the false-negative
+        rate (drawn from the frames' own stream, for every item in turn)."""
+        s = self.scenario.sensing
+        cam = (self.robot[0], self.robot[1], s.camera_height)
+        out = []
+        for it in sorted(self._placed(), key=lambda t: t.name):
+            z = self._base_z(it) + it.sz / 2
+            miss = self.frame_rng.random() < self.fn
+            if miss or not in_frame(self.robot, self.heading, np.array([[it.x, it.y]]), np.array([z]), s)[0]:
+                continue
+            occ = [b for b in self._furniture if b.name != it.on] + [
+                self._box3(o) for o in self._placed() if o is not it
+            ]
+            if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max):
+                out.append(it.seen(it.x, it.y))
+        return Frame(self.robot, self.heading, out)
+
+    def _face(self, at: Point) -> None:
+        if math.dist(at, self.robot) > 1e-6:
+            self.heading = math.atan2(at[1] - self.robot[1], at[0] - self.robot[0])
+
     def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None:
         """Close-range look (head tilted down, the hand camera): the placed item nearest ``near``
         within ``radius`` of it and within close range of the robot; missed at the false-negative
         rate. This is how a unit's check finds its target, also one the head camera's minimum
         range cannot see (at the robot's feet, where a dropped item lands)."""
         self._spend(LOCATE_S)
+        self._face(near)
         found = [
             o
             for o in self._placed()
@@ -120,12 +155,18 @@ class SymbolicWorld(WorldReferee):
         floor = [self._box(o) for o in self._placed() if o.on == "floor"]
         bare = self.room.grid(floor + out_boxes(self.drawers, self.opened), bare=True)
         metres = seconds = 0.0
+        framed = 0.0  # m driven since the last frame kept
         for k in range(1, n):
             if k == block_at or not _segment_free(bare, path[k - 1], path[k]):
                 return self._stopped("path_blocked", metres, seconds)
             d = math.dist(path[k - 1], path[k])
             metres, seconds = metres + d, seconds + d / speed
+            self._face(path[k])
             self._arrive(path[k], d, d / speed)
+            framed += d
+            if framed >= FRAME_EVERY and k < n - 1:  # the last is the glance's own
+                self._frames.append(self._frame())
+                framed = 0.0
             if k == drop_at:
                 self._fall()
             if monitor is not None and not monitor.poll():
@@ -137,6 +178,7 @@ class SymbolicWorld(WorldReferee):
         at 1 - the take rate leaves the item where it was."""
         if self.holding is not None:
             return self._fail("hand_full", 1.0)
+        self._face(target)
         near = [
             o
             for o in self._placed()
@@ -159,12 +201,13 @@ class SymbolicWorld(WorldReferee):
         if math.dist(self.robot, approach) > 0.1:
             return self._fail("not_at_deposit", 1.0)
         item = self.items[self.holding]
+        d = next(d for d in self.scenario.deposits if d.name == deposit)
+        self._face((d.x, d.y))
         drawer = self.drawers.get(deposit)
         if drawer is not None and not drawer.takes(self.opened[deposit], (item.sx, item.sy)):
             return self._fail("deposit_closed", OPENING_S)  # the hand never goes out: it stays in it
         if self.rng.random() >= self.rates.deliver:
             return self._fail("place_fail", DELIVER_S)
-        d = next(d for d in self.scenario.deposits if d.name == deposit)
         k = sum(o.state == "tidied" and o.deposit == deposit for o in self.items.values())
         # side by side in the tray, on a 5 x 5 lattice 4 cm apart: a look into the deposit tells
         # them apart (25 places: a deposit of the 96-object room receives 24); in a drawer, in
@@ -188,6 +231,7 @@ class SymbolicWorld(WorldReferee):
         1 - the drop rate, or when something the robot has not seen is lying there."""
         if self.holding is None:
             return self._fail("hand_empty", 1.0)
+        self._face(spot)
         if self.rng.random() >= self.rates.drop or any(
             math.dist(spot, (o.x, o.y)) < 0.2 for o in self._placed()
         ):

@@ -11,7 +11,7 @@ import math
 from sim.camera import sample_points
 from sim.motion import base_contacts, blocked
 from sim.robot import CAMERA_TILT, YAW_SPEED
-from tidyplan.belief.state import Detection
+from tidyplan.belief.state import Detection, Frame
 
 Point = tuple[float, float]
 
@@ -56,6 +56,33 @@ class HeadCamera:
             if it.name in seen and not miss:
                 out.append(self._seen(it))
         return out + self._phantom()
+
+    def _frame(self) -> Frame:
+        """One camera frame as the head looks now: what it sees, each item missed at the
+        false-negative rate (drawn from the frames' own stream, for every item in turn)."""
+        eye, forward, up = self.hsr.camera()
+        seen = self.camera.seen(self.client, eye, forward, up, self._targets(), self.hsr.head_parts())
+        out = []
+        for it in sorted(self._placed(), key=lambda t: t.name):
+            miss = self.frame_rng.random() < self.fn
+            if it.name in seen and not miss:
+                out.append(self._seen(it))
+        return Frame((eye[0], eye[1]), math.atan2(forward[1], forward[0]), out)
+
+    def _head_along(self, heading: float, seconds: float) -> None:
+        """Turn the head toward ``heading`` (the room's frame) at the driving tilt, as far as its
+        joints' speeds allow in ``seconds``: the head turns while the base drives, in no time of
+        its own."""
+        _, _, yaw = self.hsr.base()
+        pan = (heading - yaw + math.pi) % (2 * math.pi) - math.pi
+        if pan > PANS[0]:  # the head pans 1.75 rad left, 3.84 right: the long way round
+            pan -= 2 * math.pi
+        pan = min(max(pan, PANS[-1]), PANS[0])
+        moved = {}
+        for name, want in (("head_pan_joint", pan), ("head_tilt_joint", CAMERA_TILT)):
+            q, most = self.hsr.q(name), self.hsr.joints[name].speed * seconds
+            moved[name] = q + min(max(want - q, -most), most)
+        self.hsr.set_joints(moved)
 
     def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None:
         """Close-range look for the item of ``category`` nearest ``near`` within ``radius``: the

@@ -33,7 +33,7 @@ from sim.room import build, inside, opening
 from sim.scenario.model import ORIENTATION, STAND_DEG, Scenario
 from tidyplan.belief.geometry import RoomMap
 from tidyplan.belief.state import Detection
-from tidyplan.worlds.base import Odometer, Outcome, Rates, TrueItem, WorldReferee
+from tidyplan.worlds.base import FRAME_EVERY, Odometer, Outcome, Rates, TrueItem, WorldReferee
 from tidyplan.worlds.pybullet.drawer import Drawers
 from tidyplan.worlds.pybullet.hand import SETTLE_S, Hand
 from tidyplan.worlds.pybullet.look import HeadCamera
@@ -120,6 +120,7 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
         metres = seconds = 0.0
         before = base_contacts(self.hsr, ignore)
         passed = [self.robot]  # poses whose check passed, latest last
+        framed = 0.0  # m driven since the last frame kept
         for k in range(1, n):
             if k == block_at:
                 return Outcome(False, "path_blocked", seconds, metres)
@@ -138,8 +139,13 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
                     return Outcome(False, "path_blocked", seconds + d / speed, metres + d, touched)
                 d = math.dist(self.robot, q)
                 metres, seconds = metres + d, seconds + d / speed
+                self._head_along(math.atan2(b[1] - a[1], b[0] - a[0]), d / speed)
                 self._arrive(q, d, d / speed)
                 passed.append(q)
+                framed += d
+                if framed >= FRAME_EVERY and (k, s) != (n - 1, steps):  # the last is the glance's own
+                    self._frames.append(self._frame())
+                    framed = 0.0
             if drop_at is not None and k >= drop_at and self.holding is not None and self._free():
                 self._slip()
             if monitor is not None and not monitor.poll():
