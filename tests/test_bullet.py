@@ -400,3 +400,39 @@ def test_a_tall_box_is_taken_from_the_side_and_stands_upright_in_the_tray(world)
     crate = w.items["crate"]
     assert crate.state == "tidied" and abs(crate.x - 0.3) <= 0.19 and abs(crate.y - 2.0) <= 0.19
     assert _tilt(w, "crate") < 0.05  # it stands as it stood on the floor
+
+
+def test_the_camera_keeps_frames_on_the_way_looking_where_the_robot_drives(world):
+    # Driving north toward the toy with the base facing east (the base drives any way without
+    # turning): frames every FRAME_EVERY m, the head turned toward the way no faster than its
+    # joints allow, the drive no slower for them; the frames looking north see the toy.
+    from tidyplan.worlds.base import FRAME_EVERY
+
+    scenario = loads(HIDE, "hide.toml")
+    w = world(scenario)
+    _place(w, (3.0, 0.2))
+    w.hsr.set_base(3.0, 0.2, 0.0)
+    w.hsr.set_head(0.0, -0.35)
+    out = w.follow([(3.0, 0.2), (3.0, 1.2)])
+    assert out.ok and out.seconds == pytest.approx(1.0 / scenario.robot.speed, abs=1e-6)
+    frames = w.glance()
+    assert len(frames) == round(1.0 / FRAME_EVERY)  # one on the way, and the glance's own
+    # where the lens stood: ahead of the base's centre, the head looking north
+    assert [f.at[1] for f in frames] == pytest.approx([0.7 + 0.15, 1.2 + 0.15], abs=0.05)
+    # the head turns at 1 rad/s: by 0.5 m (2.3 s) it has turned the quarter turn to look north
+    assert [f.heading for f in frames] == pytest.approx([math.pi / 2] * 2, abs=0.05)
+    # 1.15 m short of the toy it is in view; 0.65 m short, below the frame's foot (the tilt for
+    # driving sees the floor from 1 m out)
+    assert [_toys(f.detections) for f in frames] == [[pytest.approx((3.0, 2.0), abs=0.01)], []]
+    assert not w._frames and len(w.glance()) == 1  # drained
+
+
+def test_a_frame_shows_only_its_own_field(world):
+    scenario = loads(HIDE, "hide.toml")
+    w = world(scenario)
+    _place(w, (3.0, 0.6))  # vp-open: the toy 1.4 m north
+    w.hsr.set_base(3.0, 0.6, math.pi / 2)
+    assert _toys(w.glance()[0].detections) == [pytest.approx((3.0, 2.0), abs=0.01)]
+    w.hsr.set_base(3.0, 0.6, -math.pi / 2)  # its back to the toy
+    assert _toys(w.glance()[0].detections) == []
+    assert w.odometer.sim_time_s == 0.0  # a glance takes no time

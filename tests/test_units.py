@@ -331,3 +331,44 @@ def test_each_look_after_an_action_says_what_it_was_for():
     tall = belief.observe([Detection("toy", 1.2, 1.2, "floor", 0.3, 0.3, 0.45)], None).new[0]
     belief.items[tall].state, belief.holding = "held", tall
     assert Look(ctx, None, took=tall).why().startswith(f"{tall} (0.45 m tall) taken away")
+
+
+def test_after_an_action_where_no_sweep_pays_the_robot_glances_in_no_time():
+    """The Look unit: the frames on the way and one from here, for the monitor, at no cost; a
+    sweep only where one pays. A frame counts misses only in its own field: an item behind the
+    robot is not missed by it, one ahead is."""
+    from tidyplan.belief.state import Belief, Detection, Frame
+    from tidyplan.exec.units import GLANCE_WHY, Context, Look
+
+    scenario = _scenario("glance", [("t1", 1.8, 1.0), ("t2", 0.6, 2.6)])
+    room = RoomMap(scenario)
+    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
+    belief = Belief(scenario, room)
+    belief.robot = world.robot
+    whys = []
+
+    def observe(detections, waypoint, why="", frames=None):
+        whys.append((why, frames is not None))
+        for f in frames or []:
+            belief.observe(f.detections, None, f)
+        return []
+
+    ctx = Context(world, belief, observe)
+    belief.observe([Detection("toy", 1.8, 1.0, "floor"), Detection("toy", 0.6, 2.6, "floor")], None)
+    assert Look(ctx, None).why() is None
+    before = world.odometer.sim_time_s
+    Look(ctx, None).do(None)
+    assert whys == [(GLANCE_WHY, True)] and world.odometer.sim_time_s == before
+    Look(ctx, None, after_failure=True).do(None)
+    assert whys[-1] == ("after a failure: what changed?", False)  # a sweep
+    assert world.odometer.sim_time_s > before
+    # misses: from (0.5, 1.0) a frame looking east has t1 1.3 m ahead, t2 off to its side
+    belief.robot = (0.5, 1.0)
+    t1 = next(k for k in belief.items.values() if (k.x, k.y) == (1.8, 1.0))
+    t2 = next(k for k in belief.items.values() if (k.x, k.y) == (0.6, 2.6))
+    t1.misses = t2.misses = 0
+    east = Frame((0.5, 1.0), 0.0, [])
+    assert belief.should_see(t1) and belief.should_see(t2)  # a sweep from here would miss both
+    for _ in range(2):
+        belief.observe([], None, east)
+    assert (t1.misses, t2.misses) == (2, 0)
