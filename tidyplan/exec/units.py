@@ -153,7 +153,11 @@ class AdjustBase(Unit):
         self.another = False
 
     def check(self):
-        return _locate(self.ctx, self.item, self)
+        self.ctx.located.pop(self.item, None)
+        failure = _locate(self.ctx, self.item, self)
+        if failure is None:
+            self.ctx.located[self.item] = (self.ctx.world.pose(), self.target, self.reach)
+        return failure
 
     def plan(self):
         pose = self.ctx.world.pose()
@@ -213,6 +217,12 @@ class Grasp(Unit):
     def check(self):
         if self.ctx.world.holds():
             return Failure(A, "hand_full")
+        # the base still stands where the adjustment's close look found the item: that look is
+        # this one (6.6 s a take in pybullet); a retry after a failed grasp looks again
+        pose, target, reach = self.ctx.located.pop(self.item, (None, None, None))
+        if pose is not None and math.dist(pose, self.ctx.world.pose()) < 1e-3:
+            self.target, self.reach = target, reach
+            return None
         return _locate(self.ctx, self.item, self)
 
     def plan(self):
