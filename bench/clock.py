@@ -55,7 +55,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     (pk, ps), (sk, ss) = read(args.pybullet), read(args.symbolic)
     bad = 0
-    print(f"| action kind | pybullet n | mean s | symbolic n | mean s | symbolic / pybullet |  |")
+    print("| action kind | pybullet n | mean s | symbolic n | mean s | symbolic / pybullet |  |")
     print("| --- | --- | --- | --- | --- | --- | --- |")
     for kind in sorted(set(pk) | set(sk)):
         p, s = pk.get(kind, []), sk.get(kind, [])
@@ -66,7 +66,8 @@ def main(argv: list[str] | None = None) -> int:
         ratio = ms / mp if mp else float("inf")
         off = abs(ratio - 1) > args.tolerance
         bad += off
-        print(f"| {kind} | {len(p)} | {mp:.2f} | {len(s)} | {ms:.2f} | {ratio:.2f} | {'OFF' if off else ''} |")
+        mark = "OFF" if off else ""
+        print(f"| {kind} | {len(p)} | {mp:.2f} | {len(s)} | {ms:.2f} | {ratio:.2f} | {mark} |")
         if kind == "move":
             per = [sum(t for t, _ in w) / max(sum(m for _, m in w), 1e-9) for w in (p, s)]
             print(f"| move, per metre | | {per[0]:.2f} | | {per[1]:.2f} | {per[1] / per[0]:.2f} | |")

@@ -16,11 +16,15 @@ close on nothing, placements that fail, false negatives and positives, items tha
 carried (``grasp_drop``), transient obstacles (``path_blocked``), handles that slip out of the
 hand (``handle_slip``) and drawers that jam part-way (``drawer_jam``).
 
-Durations on the simulated clock (our figures, documented in docs/trace.md): driving at the
-scenario's robot speed (the HSR's 0.8 km/h = 0.22 m/s by default); a careful pose adjustment at
-half that; a look 2 s (a head sweep); a close-range locate 1 s; a grasp 12 s, a placement 10 s,
-a drop 8 s (arm motions of a few seconds each, plus perception, as on the real HSR); reading how
-far a drawer is out 1 s; a pull or a push 8 s of arm motions plus the drawer's way at 0.1 m/s.
+Durations on the simulated clock (docs/trace.md): driving at the scenario's robot speed (the
+HSR's 0.8 km/h = 0.22 m/s by default); a careful pose adjustment at half that; the frames on
+the way and a glance no time of their own; the rest calibrated against the pybullet world,
+whose motions take what the HSR's joint speeds give them: each is the mean of that motion in
+pybullet over 19 Task 1 rooms (`python bench/clock.py PYBULLET_SWEEP SYMBOLIC_SWEEP`, which
+prints both worlds side by side): a head sweep 11 s, a close-range locate 8.3 s (turning to the
+place, tilting the head, raising the torso where the place is too close, recognising), a grasp
+4 s, a placement 12.5 s, a drop 10.5 s; reading how far a drawer is out 1 s; a pull or a push
+9.3 s of arm motions plus the drawer's way at 0.1 m/s.
 """
 
 from __future__ import annotations
@@ -47,9 +51,10 @@ from tidyplan.worlds.base import (
 
 Point = tuple[float, float]
 
-LOOK_S, LOCATE_S, TAKE_S, DELIVER_S, DROP_S = 2.0, 1.0, 12.0, 10.0, 8.0
+# s: the pybullet world's means of each motion (bench/clock.py over 19 Task 1 rooms, see above)
+LOOK_S, LOCATE_S, TAKE_S, DELIVER_S, DROP_S = 11.0, 8.3, 4.0, 12.5, 10.5
 CLOSE_RANGE = 1.2  # m: what a close-range look (head down, hand camera) sees around the robot
-OPENING_S, HANDLE_S = 1.0, 8.0  # s: a look at a drawer's front; reach its handle, grip, let go, stow
+OPENING_S, HANDLE_S = 1.0, 9.3  # s: a look at a drawer's front; reach its handle, grip, let go, stow
 
 
 class SymbolicWorld(WorldReferee):
