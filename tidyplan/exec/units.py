@@ -339,7 +339,7 @@ class Look(Unit):
     announced); then a head sweep only where one pays, and the trace says why (``why``): after
     a failure (what changed?), where an item tall enough to hide another (HIDES) was just taken
     away, at a viewpoint the plan came to look from, or where the sweep is expected to find
-    MIN_FINDS items nobody has found yet. In pybullet a sweep is 10 s: one after every action took
+    MIN_FINDS items nobody has found yet. In pybullet a sweep is 11 s: one after every action took
     a Task 1 room 3567 s, where 1284 s of it were sweeps that only the monitor asked for."""
 
     name, phase = LOOK, "observe"

@@ -1,4 +1,4 @@
-"""The HSR's eyes in the pybullet world: the head sweep after every action and the close look a
+"""The HSR's eyes in the pybullet world: the head sweep, the frames on the way and the close look a
 behaviour unit's check makes. A mixin of ``BulletWorld`` (``tidyplan.worlds.pybullet.world``), kept apart
 because perception is what makes the cases partially observable: the field of view, the range
 and occlusion decide here what the belief learns.
