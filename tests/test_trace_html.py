@@ -343,8 +343,9 @@ def test_in_chromium_the_robot_is_drawn_where_the_trace_has_it_and_a_replan_diff
     trace = read_trace(mission)
     drives = _drives(trace)[:3]
     assert drives, "the seeded run no longer has a plain drive: choose another seed"
-    looks = trace.of("action")[::9]  # during its closing look the robot stands at the action's `robot`
-    times = [0.0] + [(a + b) / 2 for _, a, b, _ in drives] + [a["sim_s"] - 0.5 for a in looks]
+    # at an action's end the robot stands at its `robot` (the glance after it takes no time)
+    looks = trace.of("action")[::9]
+    times = [0.0] + [(a + b) / 2 for _, a, b, _ in drives] + [a["sim_s"] for a in looks]
     replan = next(p["replan"] for p in trace.of("plan") if p["cause"] == "assumption_contradicted")
     result = _selftest(tmp_path, out, times, replan=replan, play=100)
 
@@ -387,7 +388,7 @@ def test_in_chromium_a_killed_run_opens_with_its_note_and_a_screenshot_is_drawn(
     assert status == 0 and "cut off mid-line" in err
     trace = read_trace(cut)
     last = trace.of("action")[-1]
-    result = _selftest(tmp_path, out, [last["sim_s"] - 0.5])
+    result = _selftest(tmp_path, out, [last["sim_s"]])  # its end: where the action left the robot
     assert (result["poses"][0]["x"], result["poses"][0]["y"]) == pytest.approx(tuple(last["robot"]), abs=0.01)
     assert result["notes"][0].startswith(f"{cut}: warning: cut off mid-line (a killed run?)")
     assert result["notes"][-1].startswith("unfinished: without a summary")
