@@ -7,8 +7,8 @@ Each argument is a sweep's folder (``tidyplan sweep ... --out DIR``: its ``trace
 Per action kind (move, take_object, deliver_it, open_drawer, ...): the mean seconds an action
 took in each world and the ratio; moves also per metre. Per unit step (a grasp's ``do``, a
 close look as a unit's ``check``, a sweep): the median seconds in each world. The symbolic
-world's durations (``tidyplan.worlds.symbolic``) are the pybullet medians this prints; a kind
-whose means differ by more than the tolerance is marked, and the exit status is 1.
+world's durations (``tidyplan.worlds.symbolic``) are the means of those motions in a pybullet
+sweep; a kind whose means differ by more than the tolerance is marked, and the exit status is 1.
 """
 
 from __future__ import annotations

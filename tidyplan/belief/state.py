@@ -442,7 +442,7 @@ class Belief:
         """Would a look from ``at`` (default: where the robot is) see k if it were there?"""
         at = self.robot if at is None else at
         s = self.scenario.sensing
-        z = 0.05 if k.on == "floor" else self.scenario.furniture_named(k.on).height + 0.05
+        z = self._z(k)
         across = math.dist(at, (k.x, k.y))
         if across > MISS_RANGE:
             return False
@@ -456,9 +456,12 @@ class Belief:
         ]
         return visible(self._camera(at), (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max)
 
+    def _z(self, k: Known) -> float:
+        """The height a look aims at: 5 cm above what k lies on."""
+        return 0.05 if k.on == "floor" else self.scenario.furniture_named(k.on).height + 0.05
+
     def _xyz(self, k: Known) -> tuple[np.ndarray, np.ndarray]:
-        z = 0.05 if k.on == "floor" else self.scenario.furniture_named(k.on).height + 0.05
-        return np.array([[k.x, k.y]]), np.array([z])
+        return np.array([[k.x, k.y]]), np.array([self._z(k)])
 
     def _in_frame(
         self, at: Point, heading: float, xy: np.ndarray, z: np.ndarray, miss: bool = False
