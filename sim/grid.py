@@ -109,6 +109,12 @@ class OccupancyGrid:
         """Whether the robot's centre may stand in the cell of (x, y)."""
         return self._free_cell(self.cell(x, y))
 
+    def component(self, x: float, y: float) -> int:
+        """The connected component of free cells the point's cell is in (0: not free): two
+        points with the same number reach each other, and each reaches the same cells."""
+        c = self.cell(x, y)
+        return int(self._labels[c]) if self._free_cell(c) else 0
+
     def free_cells(self, reachable_from: Point | None = None) -> list[Point]:
         """Centres of the free cells, in cell order; only those connected to ``reachable_from``
         when it is given (none if that point is not free): where the robot can actually go."""
@@ -168,18 +174,34 @@ class OccupancyGrid:
         taken away? The same answers as ``connected`` on a new grid without it: the components of
         this grid's free cells and the cells only ``box`` covers (a new grid per floor item cost
         seconds a replan in a two-room floor)."""
+        return self.joined(self.components_without(box), pairs)
+
+    def components_without(self, box: Box) -> np.ndarray:
+        """Each cell's component of free cells with ``box`` taken away (0: not free), for
+        ``joined``: a caller asking about many pairs, or again, labels once per box."""
         free = self.mask.copy()
         window = self._window(box)
         if window is not None:
             (i0, i1, j0, j1), x, y = window
             others = [b for b in self.obstacles if b != box]
             free[i0:i1, j0:j1] |= self._clear_of(others, x, y)
-        labels = _components(free)
-        of = {}  # each point's component (0: outside the room or not free)
-        for p in {p for pair in pairs for p in pair}:
-            i, j = self.cell(*p)
-            of[p] = int(labels[i, j]) if 0 <= i < self.shape[0] and 0 <= j < self.shape[1] else 0
-        return [of[a] != 0 and of[a] == of[b] for a, b in pairs]
+        return _components(free)
+
+    def joined(self, labels: np.ndarray, pairs) -> list[bool]:
+        """For each pair (a, b): whether both lie in one component of ``labels`` (a free one).
+        ``pairs``: point pairs, or their ``pair_cells`` (for asking of many labels in turn)."""
+        if not isinstance(pairs, tuple):
+            pairs = self.pair_cells(pairs)
+        i, j, inside = pairs
+        of = np.where(inside, labels[i, j], 0)
+        return ((of[:, 0] != 0) & (of[:, 0] == of[:, 1])).tolist()
+
+    def pair_cells(self, pairs: Sequence[tuple[Point, Point]]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The pairs' cells as index arrays (n, 2), clipped into the grid, and which are inside it."""
+        cells = np.array([self.cell(*p) for pair in pairs for p in pair], dtype=np.int64).reshape(-1, 2, 2)
+        i, j = cells[..., 0], cells[..., 1]
+        inside = (i >= 0) & (i < self.shape[0]) & (j >= 0) & (j < self.shape[1])
+        return np.clip(i, 0, self.shape[0] - 1), np.clip(j, 0, self.shape[1] - 1), inside
 
     def _window(self, box: Box):
         """The cells ``box`` (inflated) may cover, as slices' bounds, and their centres."""

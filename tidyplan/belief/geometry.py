@@ -20,6 +20,7 @@ the bare footprint decides where a careful pose adjustment may still go.
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
@@ -35,6 +36,7 @@ Point = tuple[float, float]
 GRASP_MIN, GRASP_BEST, GRASP_MAX = 0.35, 0.45, 0.65
 ADJUST_MAX = 0.60  # m: the longest pose adjustment, a short careful omnidirectional move
 ENTRANCE = "wp-entrance"
+FLOORS_KEPT = 4  # floors whose grasp poses and blockers are kept (a failed grasp's replan sees the last)
 
 
 @dataclass(frozen=True, slots=True)
@@ -91,6 +93,18 @@ class MapFacts:
         return None
 
 
+@dataclass(slots=True)
+class _Floor:
+    """What one floor (the placed items, the open drawers) gives that the robot's pose does not
+    change: the grasp poses chosen from each component the robot can stand in, each blocked
+    pair's blockers, and the components with each floor item taken away. After a move, the
+    facts cost the robot's own waypoint; the whole room is worked out only for a new floor."""
+
+    grasp: dict[tuple, MapFacts] = field(default_factory=dict)
+    blockers: dict[tuple[Point, Point], tuple[str, ...]] = field(default_factory=dict)
+    without: dict[Box, np.ndarray] = field(default_factory=dict)
+
+
 class RoomMap:
     """The static map of a scenario and the facts it gives for any placement of items.
 
@@ -106,6 +120,9 @@ class RoomMap:
         self._out: tuple[Box, ...] = ()  # the open drawers' boxes, set by facts()
         self._grids: dict[tuple[float, frozenset[Box]], OccupancyGrid] = {}
         self._bare_cells: tuple[list[Point], np.ndarray] | None = None  # for _ring
+        self._floors: OrderedDict[tuple, _Floor] = OrderedDict()  # the last few floors' work
+        self._crossing: dict[tuple, dict[Point, tuple[str, ...]]] = {}  # _add_grasp's rings
+        self._lines: dict[tuple, np.ndarray] = {}  # static paths between points, for _find_blockers
         static = self.grid(())
         self.entrance = static.nearest_free(*scenario.entrance)
         self.fixed: dict[str, Point] = {ENTRANCE: self.entrance}
@@ -165,17 +182,46 @@ class RoomMap:
         if robot is not None:
             q = robot[1]
             self._origin = q if nav.free(*q) else nav.nearest_free(*q)
-        reachable = set(nav.free_cells(reachable_from=self._origin))
-        for p in sorted(items, key=lambda p: p.name):
-            bad = (avoid or {}).get(p.name, [])
-            self._add_grasp(facts, p, floor, nav, static, bare, reachable, (sticky or {}).get(p.name), bad)
+        floor_memo = self._floor((tuple(items), self._out))
+        component = nav.component(*self._origin)
+        key = (
+            component,
+            None if component else self._origin,  # no component: nothing reachable, from here
+            tuple((p.name, (sticky or {}).get(p.name)) for p in items),
+            tuple((p.name, tuple((avoid or {}).get(p.name, ()))) for p in items),
+        )
+        chosen = floor_memo.grasp.get(key)
+        if chosen is None:
+            # the grasp poses depend on the robot only through the cells it reaches: its component
+            reachable = set(nav.free_cells(reachable_from=self._origin))
+            chosen = MapFacts()
+            for p in sorted(items, key=lambda p: p.name):
+                bad, previous = (avoid or {}).get(p.name, []), (sticky or {}).get(p.name)
+                self._add_grasp(chosen, p, floor, nav, static, bare, reachable, previous, bad)
+            floor_memo.grasp[key] = chosen
+        facts.points.update(chosen.points)
+        facts.kind.update(chosen.kind)
+        facts.grasp.update(chosen.grasp)
+        facts.unreachable.extend(chosen.unreachable)
+        facts.adjust.update(chosen.adjust)
+        facts.reach_blockers.update(chosen.reach_blockers)
         if robot is not None and robot[0] not in facts.points:
             # under its own name even beside another waypoint: the plan being executed says it
             facts.points[robot[0]], facts.kind[robot[0]] = robot[1], "robot"
         elif robot is not None and not any(math.dist(robot[1], q) < 0.03 for q in facts.points.values()):
             facts.points["wp-robot"], facts.kind["wp-robot"] = robot[1], "robot"
-        self._add_paths(facts, items, nav, static)
+        self._add_paths(facts, items, nav, static, floor_memo)
         return facts
+
+    def _floor(self, key: tuple) -> _Floor:
+        """The remembered work for this floor (new if it was not among the last few)."""
+        if key in self._floors:
+            self._floors.move_to_end(key)
+        else:
+            self._floors[key] = _Floor()
+            while len(self._floors) > FLOORS_KEPT:
+                self._floors.popitem(last=False)
+        return self._floors[key]
 
     def _add_grasp(self, facts, p, floor, nav, static, bare, reachable, previous, avoid=()) -> None:
         """Choose where the robot stands to grasp ``p``: a pose the navigation grid reaches now,
@@ -187,19 +233,24 @@ class RoomMap:
         # A pose where another floor item stands is usable once that item is taken away too: the
         # only poses of an item hemmed in by others (a table side lined with floor items).
         others_floor = [b for b in floor if b.name != p.name and b.clearance(*p.xy) <= GRASP_MAX + 0.5]
-        crossing: dict[Point, tuple[str, ...]] = {}
-        for c in self._ring(p.xy):
-            under = () if bare.free(*c) else tuple(
-                b.name for b in others_floor if b.clearance(*c) < self.bare_radius
-            )  # fmt: skip
-            crossing[c] = tuple(b.name for b in others_floor if _crosses(c, p.xy, b)) + under
+        # The ring and what crosses it depend on p and the floor items near it only (farther ones
+        # cannot touch a cell within reach): remembered, so a new floor costs the items it moved.
+        near_key = (p, tuple(others_floor), self._out)
+        crossing = self._crossing.get(near_key)
+        if crossing is None:
+            crossing = {}
+            for c in self._ring(p.xy):
+                under = () if bare.free(*c) else tuple(
+                    b.name for b in others_floor if b.clearance(*c) < self.bare_radius
+                )  # fmt: skip
+                crossing[c] = tuple(b.name for b in others_floor if _crosses(c, p.xy, b)) + under
+            if len(self._crossing) > 4096:  # a mission's items times the floors they saw
+                self._crossing.clear()
+            self._crossing[near_key] = crossing
         others = [q for n, q in facts.points.items() if facts.kind[n] in ("grasp", "adjust")]
         # poses taken by other waypoints, and those from which the robot failed to find p before
-        crossing = {
-            c: x
-            for c, x in crossing.items()
-            if all(math.dist(c, q) >= 0.1 for q in others) and all(math.dist(c, q) >= 0.15 for q in avoid)
-        }
+        keep = _apart(list(crossing), others, 0.1) & _apart(list(crossing), list(avoid), 0.15)
+        crossing = {c: x for (c, x), ok in zip(crossing.items(), keep, strict=True) if ok}
         candidates = [c for c, x in crossing.items() if not x]
         rank = lambda c: (len(crossing[c]), abs(math.dist(c, p.xy) - GRASP_BEST), c)  # noqa: E731
         name = grasp_waypoint(p.name)
@@ -213,8 +264,8 @@ class RoomMap:
         # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
         # its paths would be blocked by the item to be taken from there (no plan could start)
         own = self.grid([p.box(), *self._out]) if p.on_floor else static
-        room = set(own.free_cells(reachable_from=self._origin if own.free(*self._origin) else self.entrance))
-        later = [c for c in crossing if c in room]
+        room = own.component(*(self._origin if own.free(*self._origin) else self.entrance))
+        later = [c for c in crossing if room and own.component(*c) == room]
         if previous in later:
             later = [previous]
         if later:
@@ -254,7 +305,7 @@ class RoomMap:
         near = np.nonzero((d >= GRASP_MIN - 1e-9) & (d <= GRASP_MAX + 1e-9))[0]
         return [c for c in (cells[k] for k in near) if GRASP_MIN <= math.dist(c, at) <= GRASP_MAX]
 
-    def _add_paths(self, facts: MapFacts, items: Sequence[Placed], nav, static) -> None:
+    def _add_paths(self, facts: MapFacts, items: Sequence[Placed], nav, static, floor_memo: _Floor) -> None:
         names = sorted(facts.points)
         pts = [facts.points[n] for n in names]
         now = nav.path_lengths(pts)
@@ -278,7 +329,7 @@ class RoomMap:
             elif facts.kind[n] == "robot" and not nav.free(*facts.points[n]):
                 self._adjust_into(facts, n, nav)
         if blocked_pairs:
-            self._blockers(facts, items, names, pts, blocked_pairs)
+            self._blockers(facts, items, names, pts, blocked_pairs, floor_memo)
         # A grasp pose whose reach crosses a floor item is entered only once that item is gone.
         for g, who in facts.reach_blockers.items():
             for a in names:
@@ -304,29 +355,64 @@ class RoomMap:
             if length is not None:
                 facts.path[(other, bname)] = facts.path[(bname, other)] = round(length, 2)
 
-    def _blockers(self, facts, items, names, pts, pairs) -> None:
+    def _blockers(self, facts, items, names, pts, pairs, floor_memo: _Floor) -> None:
         """Which floor item, taken away alone, frees each blocked pair; failing any single one,
-        every floor item near the pair's path on the static map (all of them must go)."""
+        every floor item near the pair's path on the static map (all of them must go). Each
+        pair's answer depends on its two points and the floor only: remembered per floor."""
+        known = floor_memo.blockers
+        todo = list(dict.fromkeys((pts[i], pts[j]) for i, j in pairs if (pts[i], pts[j]) not in known))
+        if todo:
+            self._find_blockers(items, todo, floor_memo)
+        for i, j in pairs:
+            for item in known[(pts[i], pts[j])]:
+                facts.blocks.add((item, names[i], names[j]))
+
+    def _find_blockers(self, items, pairs: list[tuple[Point, Point]], floor_memo: _Floor) -> None:
         floor = [p for p in items if p.on_floor]
-        freed: dict[tuple[int, int], list[str]] = {pair: [] for pair in pairs}
         nav = self.grid([p.box() for p in floor] + list(self._out))
-        for p in floor:
-            joined = nav.connected_without(p.box(), [(pts[i], pts[j]) for i, j in pairs])
-            for pair, ok in zip(pairs, joined, strict=True):
-                if ok:
-                    freed[pair].append(p.name)
+        cells = nav.pair_cells(pairs)
+        freed = np.zeros((len(floor), len(pairs)), dtype=bool)  # item k, taken alone, frees pair n
+        for k, p in enumerate(floor):
+            box = p.box()
+            if box not in floor_memo.without:
+                floor_memo.without[box] = nav.components_without(box)
+            freed[k] = nav.joined(floor_memo.without[box], cells)
         static = self.grid(self._out)
         xy = np.array([p.xy for p in floor], dtype=float).reshape(-1, 2)
-        for (i, j), who in freed.items():
+        for n, (a, b) in enumerate(pairs):
+            who = [floor[k].name for k in np.nonzero(freed[:, n])[0]]
             if not who:
-                line = np.array(static.path(pts[i], pts[j]) or [], dtype=float).reshape(-1, 2)
+                line = self._line(static, a, b)
                 # each floor item near the path (one array of distances, not a loop of loops:
                 # at 96 objects that loop was half of every replan)
                 d = np.hypot(xy[:, None, 0] - line[None, :, 0], xy[:, None, 1] - line[None, :, 1])
                 near = (d < self.nav_radius + 0.1).any(axis=1) if len(line) else np.zeros(len(floor), bool)
                 who = [p.name for p, hit in zip(floor, near, strict=True) if hit]
-            for item in who:
-                facts.blocks.add((item, names[i], names[j]))
+            floor_memo.blockers[(a, b)] = tuple(who)
+
+    def _line(self, static: OccupancyGrid, a: Point, b: Point) -> np.ndarray:
+        """The static map's path a-b as an (n, 2) array (empty: none), remembered: the furniture
+        and the open drawers change seldom, the floor items every few actions."""
+        key = (self._out, a, b)
+        if key not in self._lines:
+            if len(self._lines) > 50_000:
+                self._lines.clear()
+            self._lines[key] = np.array(static.path(a, b) or [], dtype=float).reshape(-1, 2)
+        return self._lines[key]
+
+
+def _apart(cells: list[Point], points: list[Point], gap: float) -> np.ndarray:
+    """Which of ``cells`` are at least ``gap`` from every one of ``points``: math.dist's verdict
+    (numpy decides the clear cases, math.dist those within 1e-9 m of the gap, as in _ring)."""
+    keep = np.ones(len(cells), dtype=bool)
+    if not cells or not points:
+        return keep
+    c, q = np.array(cells, dtype=float), np.array(points, dtype=float)
+    d = np.hypot(c[:, None, 0] - q[None, :, 0], c[:, None, 1] - q[None, :, 1])
+    keep = (d >= gap + 1e-9).all(axis=1)
+    for k in np.nonzero(~keep & (d >= gap - 1e-9).all(axis=1))[0]:
+        keep[k] = all(math.dist(cells[k], x) >= gap for x in points)
+    return keep
 
 
 def straight(grid: OccupancyGrid, a: Point, b: Point, step: float = 0.05) -> bool:
