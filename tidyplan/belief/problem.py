@@ -164,23 +164,16 @@ def goal_atoms(belief: Belief, goal: Sequence[str], domain: m.Domain | None) -> 
     )
 
 
-def write(
-    belief: Belief,
-    facts: MapFacts,
-    goal: Sequence[str],
-    virtual: Sequence[tuple[str, str]],
-    name: str,
-    focused: bool = False,
-    domain: m.Domain | None = None,
-) -> Snapshot:
-    """The problem for the items in ``goal`` (seen names and virtual names), built as the model;
-    ``focused``: with only the part of the map and the items that goal needs (``focus``).
-    With a ``domain``, only what it declares is written (its name, its predicates and functions);
-    a predicate it declares beyond the vocabulary comes from ``belief.memory`` (the scenario's
-    facts, kept by the domain's own effects) or is false."""
-    keep = None
-    if focused:
-        facts, keep = focus(facts, belief, goal)
+def belief_state(
+    belief: Belief, facts: MapFacts, virtual: Sequence[tuple[str, str]], domain: m.Domain | None = None
+) -> frozenset[tuple[str, ...]]:
+    """``write(...).state`` without the model: what the monitor simulates the plan from after
+    every action (at 96 objects the model's hundred thousand atoms were most of a turn)."""
+    return frozenset(_contents(belief, facts, virtual, None, domain)[0])
+
+
+def _contents(belief, facts, virtual, keep, domain):
+    """(atoms, values, objects, seen, robot_wp, removal) of the problem ``write`` builds."""
     robot_wp = robot_waypoint(facts, belief)
     removal = removal_choices(facts, belief, robot_wp)
     seen = [k for k in belief.untidied() if keep is None or k.name in keep]
@@ -210,6 +203,36 @@ def write(
     for w, p in p_near.items():
         atoms.append(("unexplored", w))
         values.append(("p-item-near", (w,), p))
+    map_atoms, map_values = _map_part(facts)
+    atoms += map_atoms
+    values += map_values
+    objects = [(n, "waypoint") for n in sorted(facts.points)] + [(k.name, "item") for k in seen]
+    objects += [(d.name, "deposit") for d in deposits] + [(c, "category") for c in categories]
+    named = {n for n, _ in objects} | {v for v, _ in virtual}
+    if domain is not None:
+        named |= {c.name for c in domain.constants}
+    # the domain's own atoms (the scenario's facts, kept by the actions' effects) about objects
+    # this problem has: a focused problem leaves out waypoints a fact may name
+    atoms += sorted(a for a in belief.memory if a[0] not in VOCABULARY and set(a[1:]) <= named)
+    if domain is not None:
+        declared = {a[0] for a in atoms if domain.predicate(a[0]) is not None}
+        atoms = [a for a in atoms if a[0] in declared]
+        values = [v for v in values if domain.function(v[0]) is not None]
+    return atoms, values, objects, seen, robot_wp, removal
+
+
+_MAP_PARTS: dict[int, tuple[MapFacts, list, list]] = {}  # id(facts) -> (facts, atoms, values)
+
+
+def _map_part(facts: MapFacts) -> tuple[list, list]:
+    """The map's atoms and distances in order: paths, blocked paths and what blocks them, pose
+    adjustments. Kept for the last few maps: the belief hands out one MapFacts while nothing it
+    depends on changes (never edited after), and the monitor writes after every action."""
+    hit = _MAP_PARTS.get(id(facts))
+    if hit is not None and hit[0] is facts:
+        return hit[1], hit[2]
+    atoms: list[tuple[str, ...]] = []
+    values: list[tuple[str, tuple[str, ...], float]] = []
     for (u, v), d in sorted(facts.path.items()):
         atoms.append(("path", u, v))
         values.append(("distance", (u, v), round(d, 2)))
@@ -220,17 +243,30 @@ def write(
     for (u, v), d in sorted(facts.adjust.items()):
         atoms.append(("pose-adjustment", u, v))
         values.append(("distance", (u, v), round(d, 2)))
-    objects = [(n, "waypoint") for n in sorted(facts.points)] + [(k.name, "item") for k in seen]
-    objects += [(d.name, "deposit") for d in deposits] + [(c, "category") for c in categories]
-    named = {n for n, _ in objects} | {v for v, _ in virtual}
-    if domain is not None:
-        named |= {c.name for c in domain.constants}
-    # the domain's own atoms (the scenario's facts, kept by the actions' effects) about objects
-    # this problem has: a focused problem leaves out waypoints a fact may name
-    atoms += sorted(a for a in belief.memory if a[0] not in VOCABULARY and set(a[1:]) <= named)
-    if domain is not None:
-        atoms = [a for a in atoms if domain.predicate(a[0]) is not None]
-        values = [v for v in values if domain.function(v[0]) is not None]
+    if len(_MAP_PARTS) >= 4:
+        _MAP_PARTS.clear()
+    _MAP_PARTS[id(facts)] = (facts, atoms, values)
+    return atoms, values
+
+
+def write(
+    belief: Belief,
+    facts: MapFacts,
+    goal: Sequence[str],
+    virtual: Sequence[tuple[str, str]],
+    name: str,
+    focused: bool = False,
+    domain: m.Domain | None = None,
+) -> Snapshot:
+    """The problem for the items in ``goal`` (seen names and virtual names), built as the model;
+    ``focused``: with only the part of the map and the items that goal needs (``focus``).
+    With a ``domain``, only what it declares is written (its name, its predicates and functions);
+    a predicate it declares beyond the vocabulary comes from ``belief.memory`` (the scenario's
+    facts, kept by the domain's own effects) or is false."""
+    keep = None
+    if focused:
+        facts, keep = focus(facts, belief, goal)
+    atoms, values, objects, seen, robot_wp, removal = _contents(belief, facts, virtual, keep, domain)
     has_costs = domain is None or domain.has_costs
     problem = m.Problem(
         name=name,

@@ -31,7 +31,7 @@ from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from tidyplan.belief.problem import Snapshot, write
+from tidyplan.belief.problem import Snapshot, belief_state, write
 from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import VOCABULARY
 from tidyplan.loop.counting import Counters
@@ -381,8 +381,8 @@ class Mission:
     def _belief_state(self):
         """The current belief as a planning state, in the names of the plan being executed."""
         virtual = [(v, c) for v, c in self.snapshot.virtual if v not in self.bound]
-        snap = write(self.belief, self.belief.facts(), self.goal, virtual, "belief", domain=self.domain)
-        facts = set(snap.atoms)  # the model's init, as a state: nothing written or parsed
+        # the problem's init as a state: no model built, nothing written or parsed
+        facts = set(belief_state(self.belief, self.belief.facts(), virtual, self.domain))
         # Virtual objects the plan bound are seen items now; pending assumptions stand for
         # what the plan took for granted and the belief does not contradict yet.
         for a in self.pending:
