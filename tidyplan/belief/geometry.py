@@ -118,7 +118,8 @@ class RoomMap:
         self.bare_radius = scenario.robot.radius
         self._origin: Point = (0.0, 0.0)  # where reachability is counted from, set by facts()
         self._out: tuple[Box, ...] = ()  # the open drawers' boxes, set by facts()
-        self._grids: dict[tuple[float, frozenset[Box]], OccupancyGrid] = {}
+        # least recently used last out: the static map (asked every turn) keeps its paths
+        self._grids: OrderedDict[tuple[float, frozenset[Box]], OccupancyGrid] = OrderedDict()
         self._bare_cells: tuple[list[Point], np.ndarray] | None = None  # for _ring
         self._floors: OrderedDict[tuple, _Floor] = OrderedDict()  # the last few floors' work
         self._crossing: dict[tuple, dict[Point, tuple[str, ...]]] = {}  # _add_grasp's rings
@@ -147,9 +148,11 @@ class RoomMap:
         """The occupancy grid with the furniture and these floor boxes, navigation or bare radius."""
         radius = self.bare_radius if bare else self.nav_radius
         key = (radius, frozenset(floor))
-        if key not in self._grids:
-            if len(self._grids) > 64:  # a mission sees a few dozen floors; keep memory bounded
-                self._grids.clear()
+        if key in self._grids:
+            self._grids.move_to_end(key)
+        else:
+            while len(self._grids) > 64:  # a mission sees a few dozen floors; keep memory bounded
+                self._grids.popitem(last=False)
             boxes = tuple(f.box() for f in self.scenario.furniture) + tuple(sorted(key[1], key=_box_key))
             self._grids[key] = OccupancyGrid(self.scenario.bounds, boxes, radius=radius)
         return self._grids[key]
