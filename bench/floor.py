@@ -35,6 +35,7 @@ from pathlib import Path
 
 from sim.scenario.model import ORIENTATION
 from tidyplan.belief.geometry import ENTRANCE, Placed, RoomMap, deposit_waypoint
+from tidyplan.loop.deadline import improve
 from tidyplan.loop.scenarios import load_scenario
 from tidyplan.trace.score import TIME_LIMIT_S
 
@@ -108,7 +109,7 @@ def room_floor(scenario, grasp_s: float, place_s: float, pull_s: float, restarts
                 order.append(j)
                 at = leg(j, at)[1]
                 left.remove(j)
-            order = _improve(order, lambda o: cost(o, start))
+            order = improve(order, lambda o: cost(o, start))
             if best is None or cost(order, start) < cost(best, start):
                 best = order
         return best or []
@@ -146,31 +147,6 @@ def _prefix_score(order, start, t0, leg, jobs, limit, drawers_bonus) -> int:
             return score + (drawers_bonus if score else 0)
         t, at, score = t + s, to, score + jobs[j][3]
     return score + (drawers_bonus if score else 0) + (ALL_AWAY if len(order) == len(jobs) else 0)
-
-
-def _improve(order: list[int], cost) -> list[int]:
-    """2-opt (reverse a stretch) and or-opt (move one job elsewhere) until neither helps."""
-    best, c = list(order), cost(order)
-    better = True
-    while better:
-        better = False
-        n = len(best)
-        for i in range(n - 1):
-            for k in range(i + 1, n):
-                cand = best[:i] + best[i : k + 1][::-1] + best[k + 1 :]
-                cc = cost(cand)
-                if cc < c - 1e-9:
-                    best, c, better = cand, cc, True
-        for i in range(n):
-            for k in range(n):
-                if i == k:
-                    continue
-                cand = best[:i] + best[i + 1 :]
-                cand.insert(k, best[i])
-                cc = cost(cand)
-                if cc < c - 1e-9:
-                    best, c, better = cand, cc, True
-    return best
 
 
 def main(argv: list[str] | None = None) -> int:

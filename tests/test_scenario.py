@@ -134,8 +134,11 @@ KNOWN_ITEM = "category, name, on, orientation, position, size, unknown"
     ("old", "new", "message"),
     [
         ('name = "mini"', 'name = "mini"\ncolour = 1', "colour: unknown key (known: deposit, "
-         "description, expect, facts, furniture, item, name, prior, robot, room, schema, sensing, title, "
-         "viewpoint)"),
+         "description, expect, facts, furniture, item, name, prior, robot, room, schema, sensing, "
+         "time_limit_s, title, viewpoint)"),
+        ('name = "mini"', 'name = "mini"\ntime_limit_s = 0', "time_limit_s: must be > 0, got 0"),
+        ('name = "mini"', 'name = "mini"\ntime_limit_s = "15 min"', "time_limit_s: must be a finite number, "
+         "got '15 min'"),
         ('on = "table"', 'on = "table"\ncolour = "red"',
          f'item "apple".colour: unknown key (known: {KNOWN_ITEM})'),
         ("speed = 0.3", "speed = 0.3\nwheels = 3",
@@ -369,4 +372,7 @@ def test_a_drawer_and_facts_are_written_out_and_read_back_unchanged():
     )
     back = loads(dumps(s), s.path)
     assert back.deposits == s.deposits and back.facts == s.facts
+    assert back.time_limit_s is None
+    limited = replace(s, time_limit_s=900.0)  # the referee's clock, where a scenario has one
+    assert loads(dumps(limited), s.path).time_limit_s == 900.0
     assert any(d.drawer is not None and d.drawer.closed for d in back.deposits)

@@ -78,7 +78,8 @@ def run(
     first_plan_limit: float = DEFAULTS.first_plan_limit,
     min_probability: float = DEFAULTS.min_probability,
     max_recovery: int = DEFAULTS.max_recovery,
-    time_limit: float = DEFAULTS.time_limit,
+    time_limit: float | None = DEFAULTS.time_limit,
+    after_limit: str = DEFAULTS.after_limit,
     domain: str | Path | None = None,
     trace: str | Path | None = None,
     gui: bool = DEFAULTS.gui,
@@ -111,6 +112,7 @@ def run(
             world=world,
             gui=gui,
             time_limit=time_limit,
+            after_limit=after_limit,
         )
     except OptionError as err:
         raise err.spelled(spell) from None

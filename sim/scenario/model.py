@@ -209,6 +209,9 @@ class Scenario:
     # Atoms of a domain's own predicates true at the start (``facts = ["(name arg ...)"]``), each
     # as (name, arg, ...): what no sensor reports and the problem writer does not fill.
     facts: tuple[tuple[str, ...], ...] = ()
+    # The referee's clock, simulated seconds (the WRS Task 1's 15 minutes): where a scenario gives
+    # one, a mission plans for the most score within it (docs/loop.md, "Against the clock")
+    time_limit_s: float | None = None
 
     def prior_counts(self) -> dict[str, int] | None:
         """The declared prior as category -> count, or None when the scenario declares none."""

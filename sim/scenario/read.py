@@ -79,7 +79,7 @@ def loads(text: str, path: str = "<string>") -> Scenario:
 
 
 _ATOM = re.compile(r"\(\s*([a-z][a-z0-9_-]*)((?:\s+[a-z][a-z0-9_-]*)*)\s*\)")
-_TOP = ("schema", "name", "title", "description", "room", "robot", "sensing")
+_TOP = ("schema", "name", "title", "description", "time_limit_s", "room", "robot", "sensing")
 _ARRAYS = ("furniture", "deposit", "item", "viewpoint")
 _A = {"furniture": "a furniture piece", "deposit": "a deposit", "item": "an item", "viewpoint": "a viewpoint"}
 _EXPECT = tuple(f.name for f in dataclasses.fields(Expect))
@@ -101,6 +101,7 @@ class _Reader(FieldReader):
         name = self.string(doc, "", "name", name=True)
         title = self.string(doc, "", "title")
         description = self.string(doc, "", "description", "")
+        time_limit = self.number(doc, "", "time_limit_s", None, positive)
         bounds = entrance = None
         heading = 0.0
         room = self.table(doc, "room", required=True)
@@ -144,7 +145,7 @@ class _Reader(FieldReader):
             raise ScenarioError(self.messages)
         head = (name, title, description, bounds, entrance, heading, robot, sensing)
         arrays = (tuple(o for _, _, o in parsed[k]) for k in _ARRAYS)
-        return Scenario(*head, *arrays, expect, self.path, prior, facts)
+        return Scenario(*head, *arrays, expect, self.path, prior, facts, time_limit)
 
     def _furniture(self, where: str, t: dict, bounds: tuple | None) -> Furniture | None:
         self.keys(t, where, ("name", "center", "size", "height", "kind"))

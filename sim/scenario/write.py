@@ -22,6 +22,7 @@ def dumps(s: Scenario) -> str:
         f"name = {_str(s.name)}",
         f"title = {_str(s.title)}",
         f"description = '''\n{s.description}'''",
+        *([f"time_limit_s = {_num(s.time_limit_s)}"] if s.time_limit_s is not None else []),
         *([f"facts = [{', '.join(_str('(' + ' '.join(a) + ')') for a in s.facts)}]"] if s.facts else []),
         "",
         "[room]",

@@ -14,10 +14,11 @@ from dataclasses import replace
 from pathlib import Path
 
 from tidyplan.errors import InternalError, TidyplanError
-from tidyplan.loop.options import DEFAULTS  # plain values: `tidyplan check` loads no planner stack
+from tidyplan.loop.options import AFTER_LIMIT, DEFAULTS  # plain values: no planner stack
 from tidyplan.loop.scenarios import DEFAULT_SCENARIO, load_scenario, project_file
 from tidyplan.planning.strata import STRATEGIES
 from tidyplan.trace.events import delivers
+from tidyplan.trace.score import TIME_LIMIT_S
 from tidyplan.worlds.rates import FAULTS
 from tidyplan.worlds.registry import WORLDS
 
@@ -108,10 +109,18 @@ def add_parsers(sub, positive) -> None:
     r.add_argument(
         "--time-limit",
         type=positive,
-        default=DEFAULTS.time_limit,
+        default=None,
         metavar="SECONDS",
-        help="simulated seconds the WRS referee allows, for the score "
-        f"(default {DEFAULTS.time_limit:g}: the rulebook's 15 minutes); the mission itself runs on",
+        help="simulated seconds the WRS referee allows: the score counts what is put away within "
+        "them and the robot plans for the most score in them (default: the scenario's time_limit_s, "
+        f"900 for wrs-task1; where it gives none, {TIME_LIMIT_S:g} for the score alone)",
+    )
+    r.add_argument(
+        "--after-limit",
+        choices=AFTER_LIMIT,
+        default=DEFAULTS.after_limit,
+        help="once the time limit has passed: go on tidying everything, or stop the mission "
+        f"(default {DEFAULTS.after_limit})",
     )
     r.add_argument("--gui", action="store_true", help="open the pybullet window (pybullet world only)")
     r.add_argument("--json", action="store_true", help="print the summary as one JSON object, last")
@@ -175,6 +184,7 @@ def cmd_run(args) -> int:
             min_probability=args.min_probability,
             max_recovery=args.max_recovery,
             time_limit=args.time_limit,
+            after_limit=args.after_limit,
             domain=args.domain,
             trace=trace,
             gui=args.gui,

@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 from tidyplan.errors import InputError
-from tidyplan.loop.options import DEFAULTS, OptionError, cli_spelling
+from tidyplan.loop.options import AFTER_LIMIT, DEFAULTS, OptionError, cli_spelling
 from tidyplan.loop.scenarios import load_scenario, scenario_path
 from tidyplan.worlds.registry import WORLDS
 
@@ -46,8 +46,10 @@ def add_parser(sub, positive) -> None:
         type=positive,
         default=DEFAULTS.time_limit,
         metavar="SECONDS",
-        help=f"simulated seconds the WRS referee allows, for the score (default {DEFAULTS.time_limit:g})",
+        help="simulated seconds the WRS referee allows, for the score and the robot's plans "
+        "(default: each scenario's time_limit_s; tidyplan run --time-limit)",
     )
+    s.add_argument("--after-limit", choices=AFTER_LIMIT, default=DEFAULTS.after_limit)
     s.add_argument("--time-budget", type=positive, default=DEFAULTS.time_budget, metavar="SECONDS")
     s.add_argument(
         "--patience",
@@ -111,6 +113,7 @@ def configs_from(args) -> list:
         planners,
         args.world,
         time_limit=args.time_limit,
+        after_limit=args.after_limit,
         time_budget=args.time_budget,
         patience=args.patience,
     )

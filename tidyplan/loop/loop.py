@@ -46,6 +46,7 @@ from tidyplan.pddl.static import changed_predicates
 from tidyplan.planning.planner import PlanResult, Status, Step
 from tidyplan.planning.strata import STRATEGIES, unproven_below
 from tidyplan.trace import events
+from tidyplan.trace.score import TIME_LIMIT_S
 from tidyplan.worlds.contract import Referee, referee_view
 
 # How a mission ends: a reason, or one that needs the referee's verdict (the items the world
@@ -69,8 +70,12 @@ class LoopConfig:
     # time replanned and tried again, will not go (the world has a reason the belief lacks).
     # The item it acts on is given up and the rest tidied; an action on no item ends the mission.
     max_same_failure: int = 5
-    # the WRS referee's, for readers (tidyplan.trace.score); the loop runs on past it
-    time_limit_s: float = DEFAULTS.time_limit
+    # the WRS referee's, for readers (tidyplan.trace.score)
+    time_limit_s: float = TIME_LIMIT_S
+    # the limit the robot plans against (tidyplan.loop.deadline; None: it plans to tidy
+    # everything), and what it does once it has passed: go on tidying ("continue") or "stop"
+    deadline_s: float | None = None
+    after_limit: str = DEFAULTS.after_limit
 
 
 @dataclass(slots=True)
@@ -116,6 +121,8 @@ class Mission:
             self.count,
             config.min_probability,
             self._plain,
+            clock=trace.now,
+            deadline_s=config.deadline_s,
         )
         self.excursions = Excursions(belief, executor, self._observe, trace.emit, self.count)
         self.executor.bind(self.domain)
@@ -172,6 +179,8 @@ class Mission:
             return self._finished()
         if self.count.actions >= (cap := self._action_cap()):
             return f"action limit {cap} reached"
+        if self.config.after_limit == "stop" and self.trace.now() >= self.config.time_limit_s:
+            return f"time limit {self.config.time_limit_s:g} s reached: stopped (after-limit stop)"
         # No check here: the plan was just made from this belief, or _monitor has checked the
         # rest of it (this step first) against the belief after the last action.
         step = self.steps.pop(0)
@@ -200,9 +209,10 @@ class Mission:
                     return failed
                 self._give_up(item, failed)
             return self._replan(Cause.RECOVERY, f"{step.text}: {report.failure}")
-        if unbound and self.goal_kind != "horizon":
-            # Under a horizon the plan is for the nearest dozen only: a new item waits for the
-            # next horizon (unless it is in the way: the simulation below finds that, (ii)).
+        if unbound and self.goal_kind not in ("horizon", "deadline"):
+            # Under a horizon the plan is for the nearest dozen only (against the clock, for the
+            # route's dozen): a new item waits for the next plan (unless it is in the way: the
+            # simulation below finds that, (ii)).
             return self._replan(Cause.NEW_OBJECT, " ".join(unbound))
         if not self.steps:
             return None  # _finished decides on the next turn

@@ -11,6 +11,7 @@ from dataclasses import replace
 
 from tidyplan.belief.problem import Snapshot, write
 from tidyplan.errors import PlannerError
+from tidyplan.loop.deadline import deadline
 from tidyplan.loop.goals import HORIZON, goals
 from tidyplan.pddl import model as m
 from tidyplan.pddl.check import check_problem
@@ -35,6 +36,8 @@ class Replanner:
         count,
         min_probability: float,
         plain_domain,
+        clock=lambda: 0.0,
+        deadline_s: float | None = None,
     ) -> None:
         self.domain, self.belief, self.planner, self.max_stratum = domain, belief, planner, max_stratum
         self.trace, self.count, self.min_probability, self.plain_domain = (
@@ -46,6 +49,7 @@ class Replanner:
         self._facts_s = 0.0  # seconds the last goals() spent on the map's facts
         self._facts = None
         self._seen: list[str] = []
+        self.clock, self.deadline_s = clock, deadline_s  # the simulated clock; the limit planned against
 
     def goals(self):
         """The goals to try in turn (``tidyplan.loop.goals``), the items given up left out, the
@@ -53,8 +57,23 @@ class Replanner:
         t0 = time.perf_counter()
         facts = self.belief.facts()
         self._facts_s = time.perf_counter() - t0  # the map's facts for this replan (cached since)
+        against = None
+        if self.deadline_s is not None and (left := self.deadline_s - self.clock()) > 0:
+            against = deadline(self.belief, facts, left)
+            if against is not None:
+                self.trace.emit(
+                    "deadline",
+                    left_s=round(against.left_s, 1),
+                    everything_s=round(against.everything_s, 1),
+                    seconds=round(against.seconds, 1),
+                    points=against.points,
+                    route=list(against.route),
+                    drawers=list(against.drawers),
+                    put_off=list(against.put_off),
+                    why=against.why(),
+                )
         out = [(label, [g for g in goal if g not in self.belief.undeliverable], virtual)
-               for label, goal, virtual in goals(self.belief, facts)]  # fmt: skip
+               for label, goal, virtual in goals(self.belief, facts, against)]  # fmt: skip
         self._facts, self._seen = facts, out[-1][1]
         return out[:-1] + [("feasible", None, [])]
 
@@ -79,7 +98,8 @@ class Replanner:
         facts = self.belief.facts()
         t1 = time.perf_counter()
         facts_s, self._facts_s = t1 - t0 + self._facts_s, 0.0  # the first goal tried pays for them
-        snap = write(self.belief, facts, goal, virtual, name, label == "horizon", self.domain)
+        focused = label in ("horizon", "deadline")  # a part of the room: the map for its items
+        snap = write(self.belief, facts, goal, virtual, name, focused, self.domain)
         problem = self._problem(snap, f"replan-{n:03d}.pddl")
         t2 = time.perf_counter()
         result = self.planner(self.domain, problem, self.max_stratum)

@@ -19,6 +19,7 @@ Engines and how they are run are in `tidyplan.planning.engines`.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from enum import Enum
 
@@ -36,6 +37,7 @@ from tidyplan.planning.engines import (
     Engine,
     run,
 )
+from tidyplan.planning.shortcut import shortcut
 from tidyplan.planning.strata import Attempt, Outcome, plan_by_strata
 
 
@@ -129,6 +131,7 @@ def plan(
     grounder: grounding.Grounder | None = None,
     reduce_moves: bool = True,
     patience: float | None = None,
+    keep: Callable[[str], bool] | None = lambda obj: False,
 ) -> PlanResult:
     """One plan for the task, ranked by strata, then by the criterion.
 
@@ -150,6 +153,10 @@ def plan(
 
     With `reduce_moves`, a domain's pure moves go only to where there is work
     (`tidyplan.planning.moves`: the same optimum, far fewer states); plans come back in the task's words.
+
+    The plan found loses its detours (`tidyplan.planning.shortcut`: two steps of one action that
+    chain, one step where that is sound and cheaper), never passing over an object ``keep``
+    names; ``keep=None`` leaves the plan as the search found it.
     """
     start = time.perf_counter()
     deadline = start + first_plan_limit
@@ -208,6 +215,10 @@ def plan(
         return PlanResult(
             status, (), None, None, tuple(attempts), elapsed, planner, "; ".join(messages), phases, 0, task
         )
+    if keep is not None:
+        t0 = time.perf_counter()
+        steps = shortcut(steps, task, keep)
+        phases["shortcut"] = time.perf_counter() - t0
     result_score = score((s.cost for s in steps), (s.probability for s in steps), task.reward)
     return PlanResult(
         Status.SOLVED,

@@ -23,7 +23,8 @@ class MissionConfig:
     faults: str = ""  # canonical ``K=V,...`` (sorted); "" for the world's baseline
     planner: str = DEFAULTS.planner
     world: str = DEFAULTS.world
-    time_limit: float = DEFAULTS.time_limit  # simulated seconds the WRS referee allows (the score)
+    time_limit: float | None = DEFAULTS.time_limit  # the referee's seconds (None: the scenario's)
+    after_limit: str = DEFAULTS.after_limit
     time_budget: float = DEFAULTS.time_budget
     patience: float = DEFAULTS.patience  # 0: improve for the whole time budget
 
@@ -47,11 +48,13 @@ class MissionConfig:
             rates=Rates.parse(self.faults),
             world=self.world,
             time_limit=self.time_limit,
+            after_limit=self.after_limit,
         )
 
     @classmethod
     def from_row(cls, row: dict) -> MissionConfig:
-        return cls(**{f.name: row[f.name] for f in fields(cls)})
+        # a row of a table made before a field was added has that field's default
+        return cls(**{f.name: row[f.name] for f in fields(cls) if f.name in row})
 
     def trace_stem(self) -> str:
         """A readable, unique file stem: the scenario, strategy and planner, a hash of the rest of

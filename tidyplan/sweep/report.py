@@ -48,6 +48,7 @@ BY_FIELDS = {
     "faults": "faults",
     "world": "world",
     "time_limit": "time_limit",
+    "after_limit": "after_limit",
     "time_budget": "time_budget",
     "patience": "patience",
 }
@@ -103,6 +104,7 @@ def conditions(rows: list[dict], by: tuple[str, ...] | None = None) -> list[dict
 def label(config: MissionConfig) -> str:
     faults = config.faults or "baseline"
     extra = "" if config.time_limit == DEFAULTS.time_limit else f" limit {config.time_limit:g}s"
+    extra += "" if config.after_limit == DEFAULTS.after_limit else f" then {config.after_limit}"
     scenario = Path(config.scenario_file).stem
     return f"{scenario} {config.strategy} {config.planner} {faults} {config.world}{extra}"
 
@@ -111,7 +113,8 @@ def pooled_label(config: MissionConfig, by: tuple[str, ...]) -> str:
     words = {
         "scenario": Path(config.scenario_file).stem,
         "faults": config.faults or "baseline",
-        "time_limit": f"limit {config.time_limit:g}s",
+        "time_limit": f"limit {config.time_limit:g}s" if config.time_limit else "the scenario's limit",
+        "after_limit": f"then {config.after_limit}",
         "time_budget": f"budget {config.time_budget:g}s",
         "patience": f"patience {config.patience:g}s",
     }

@@ -46,6 +46,10 @@ class NoTrace:
             self.listener(event)
         return event
 
+    def now(self) -> float:
+        """The simulated clock the events are stamped with (``sim_s``)."""
+        return self._clock()
+
     def _record(self, event: dict) -> None:
         pass
 
