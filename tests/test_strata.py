@@ -199,5 +199,5 @@ def test_the_mission_hands_over_unproven_only_after_an_incomplete_search(monkeyp
     ):
         calls.clear()
         monkeypatch.setattr(mission, "plan", fake(status))
-        mission.mission_plan(None, None, settings, None)
+        mission.mission_plan(None, SimpleNamespace(init=()), settings, None)  # a problem of no facts
         assert calls == expected

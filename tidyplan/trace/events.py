@@ -9,7 +9,7 @@ from tidyplan.exec.catalogue import DELIVERS
 
 SCHEMA_VERSION = 1
 KINDS = frozenset(
-    "start observe plan assume unit recovery action bind assumption plan_kept forget "
+    "start observe deadline plan assume unit recovery action bind assumption plan_kept forget "
     "explore_again look_again unblock give_up inspect_deposit sim_fault end summary".split()
 )
 # the five replan causes, numbered as in docs/trace.md and the Design (i)..(v)
