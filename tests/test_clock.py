@@ -83,6 +83,33 @@ def test_the_head_turns_toward_the_way_no_faster_than_its_joints(world):
     assert max(pan for _, pan in pans) - min(pan for _, pan in pans) > 1.0  # it did turn round
 
 
+@pytest.mark.parametrize("world", ["pybullet"], indirect=True)  # the symbolic base has no heading
+@pytest.mark.parametrize("length", [0.2, 1.2])  # shorter and longer than half a turn takes
+def test_a_drive_that_turns_to_face_a_point_takes_the_longer_of_the_drive_and_the_turn(world, length):
+    """The base is omnidirectional: it turns at its yaw rate while it drives, never faster, and
+    what the drive was too short for is turned after it; it arrives facing the point."""
+    world.hsr.set_base(1.4, 0.5, 0.0)  # along the table's south side (PATH's second leg)
+    world.robot = (1.4, 0.5)
+    end = (1.4 + length, 0.5)
+    face = (end[0] - 1.0, 0.5)  # straight behind it: half a turn
+    yaws: list[tuple[float, float]] = []  # (seconds of the step, yaw after it)
+    arrive = world._arrive
+
+    def spy(q, d, seconds):
+        yaws.append((seconds, world.hsr.base()[2]))
+        return arrive(q, d, seconds)
+
+    world._arrive = spy
+    out = world.follow([(1.4, 0.5), end], face=face)
+    assert out.ok
+    assert out.seconds == pytest.approx(max(length / BASE, math.pi / YAW), rel=1e-6)
+    assert abs(abs(world.hsr.base()[2]) - math.pi) < 1e-9  # facing the point
+    before = 0.0
+    for seconds, yaw in yaws:
+        assert abs(abs(yaw) - abs(before)) <= YAW * seconds + 1e-9
+        before = yaw
+
+
 @pytest.mark.parametrize("degrees", [30, 90, 180])
 def test_a_turn_takes_its_angle_over_the_yaw_rate(hsr, degrees):
     hsr.set_base(0.0, 0.0, 0.0)

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 
-from tidyplan.belief.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, straight
+from tidyplan.belief.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, deposit_waypoint, straight
 from tidyplan.exec.catalogue import (
     ADJUST_BASE,
     ADJUST_POSE,
@@ -99,13 +99,27 @@ class Navigate(Unit):
         return None
 
     def do(self, monitor: StateMonitor):
-        failure = _drive(self.ctx, self, self.path, monitor, self.careful)
+        failure = _drive(self.ctx, self, self.path, monitor, self.careful, self._facing())
         if failure is None:
             self.ctx.belief.at(self.goal, self.waypoint)
         return failure
 
     def insert_for(self, failure: Failure) -> list[Unit]:
         return _pick_up_if_dropped(self.ctx, self, failure)
+
+    def _facing(self) -> Point | None:
+        """What the robot turns to on the way, as a navigation goal's pose has it: at an item's
+        grasp pose the item, at a deposit's approach the deposit (the close look and the hand
+        then start facing it: no turn of their own); elsewhere nothing."""
+        belief = self.ctx.belief
+        for d in belief.scenario.deposits:
+            if deposit_waypoint(d.name) == self.waypoint:
+                return d.x, d.y
+        facts = belief.facts()
+        for item, w in facts.grasp.items():
+            if w == self.waypoint and item in belief.items:
+                return belief.items[item].x, belief.items[item].y
+        return None
 
     def learn(self, failure: Failure) -> None:
         """A way the base could not go is blocked for the planner, from where the action started
@@ -189,7 +203,7 @@ class AdjustBase(Unit):
             return None
         world = self.ctx.world
         self.tried.append(world.pose())
-        out = world.follow(self.path, monitor, careful=True)
+        out = world.follow(self.path, monitor, careful=True, face=self.target)
         self.ctx.belief.robot = world.pose()
         return None if out.ok else Failure(A, out.failure or "path_blocked")
 
@@ -376,14 +390,17 @@ class Look(Unit):
 GLANCE_WHY = "frames on the way: for the monitor, what moved, what nobody announced"
 
 
-def _drive(ctx: Context, unit, path: list[Point], monitor: StateMonitor, careful: bool) -> Failure | None:
-    """Follow ``path``; carrying, the state monitor watches the hand and stops the robot the
-    moment the item slips out (class C), and the belief puts the item near the robot at once."""
+def _drive(
+    ctx: Context, unit, path: list[Point], monitor: StateMonitor, careful: bool, face: Point | None = None
+) -> Failure | None:
+    """Follow ``path`` (turning on the way to ``face`` it); carrying, the state monitor watches
+    the hand and stops the robot the moment the item slips out (class C), and the belief puts
+    the item near the robot at once."""
     world, belief = ctx.world, ctx.belief
     unit.carrying = belief.holding
     if unit.carrying is not None:
         monitor.watch("grasp_drop", C, world.holds)
-    out = world.follow(path, monitor, careful=careful)
+    out = world.follow(path, monitor, careful=careful, face=face)
     belief.robot = world.pose()
     unit.touched = out.at if out.failure == "path_blocked" else None
     if out.ok:

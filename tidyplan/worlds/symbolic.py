@@ -147,13 +147,16 @@ class SymbolicWorld(WorldReferee):
         return self.robot
 
     # ------------------------------------------------------------------ actions
-    def follow(self, path: list[Point], monitor=None, *, careful: bool = False) -> Outcome:
+    def follow(
+        self, path: list[Point], monitor=None, *, careful: bool = False, face: Point | None = None
+    ) -> Outcome:
         """Drive along ``path`` (its first point is where the robot is) at the robot's speed
         (``careful``: half of it, a pose adjustment). Stops before the first point the true
         footprint does not fit (an obstacle nobody has seen, or a transient one the
         ``path_blocked`` fault puts there): ``path_blocked``. ``monitor.poll()`` runs after every
         segment and stops the motion at once when it returns False (``interrupted``). An item in
-        the hand falls on the way at the ``grasp_drop`` rate."""
+        the hand falls on the way at the ``grasp_drop`` rate. The base has no heading here
+        (``face`` is the pybullet world's): a take's and a put's means include their turns."""
         speed = self.scenario.robot.speed / (2 if careful else 1)
         n = len(path)
         block_at, drop_at = self._faults_on_path(n)

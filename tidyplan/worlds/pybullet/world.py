@@ -28,7 +28,7 @@ import pybullet as p
 
 from sim.camera import Camera
 from sim.motion import TOUCH, base_contacts, blocked, contacts, settle
-from sim.robot import RAISED, STOW
+from sim.robot import RAISED, STOW, YAW_SPEED
 from sim.room import build, inside, opening
 from sim.scenario.model import ORIENTATION, STAND_DEG, Scenario
 from tidyplan.belief.geometry import RoomMap
@@ -105,16 +105,26 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
         return self.robot
 
     # ------------------------------------------------------------------ actions
-    def follow(self, path: list[Point], monitor=None, *, careful: bool = False) -> Outcome:
+    def follow(
+        self, path: list[Point], monitor=None, *, careful: bool = False, face: Point | None = None
+    ) -> Outcome:
         """Drive along ``path`` kinematically at the HSR's speed (``careful``: half of it), testing
         the base's collision shape every 5 cm; stop short of a contact (``path_blocked``), or
         where a transient obstacle stands (the ``path_blocked`` fault). ``monitor.poll()`` runs
         after every segment and stops the motion when it returns False (``interrupted``). An
         object in the hand slips out on the way at the ``grasp_drop`` rate and falls: at the end
         of the drawn segment, or of the first one after it where it is in the room and touches
-        nothing (``_free``)."""
+        nothing (``_free``).
+
+        ``face``: the base turns on the way to face it at the end (the HSR's base is
+        omnidirectional: it turns at its yaw rate while it drives, and what is left of the turn
+        when it arrives takes its own time after)."""
         speed = self.scenario.robot.speed / (2 if careful else 1)
         n = len(path)
+        yaw0, turn = self.hsr.base()[2], 0.0
+        if face is not None and n and math.dist(path[-1], face) > 1e-3:
+            want = math.atan2(face[1] - path[-1][1], face[0] - path[-1][0])
+            turn = (want - yaw0 + math.pi) % (2 * math.pi) - math.pi
         block_at, drop_at = self._faults_on_path(n)
         ignore = self._ignored()
         metres = seconds = 0.0
@@ -128,7 +138,9 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
             steps = max(1, math.ceil(math.dist(a, b) / STEP))
             for s in range(1, steps + 1):
                 q = (a[0] + (b[0] - a[0]) * s / steps, a[1] + (b[1] - a[1]) * s / steps)
-                self._place_base(q)
+                d = math.dist(self.robot, q)
+                turned = min(abs(turn), YAW_SPEED * (seconds + d / speed))  # by the time it is at q
+                self._place_base(q, yaw0 + math.copysign(turned, turn))
                 hit = blocked(base_contacts(self.hsr, ignore), before)
                 if hit:
                     touched = self._touched(hit)
@@ -150,6 +162,11 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
                 self._slip()
             if monitor is not None and not monitor.poll():
                 return Outcome(False, "interrupted", seconds, metres)
+        rest = abs(turn) / YAW_SPEED - seconds  # the turn's part the drive was too short for
+        if rest > 0:
+            self._place_base(self.robot, yaw0 + turn)
+            self._arrive(self.robot, 0.0, rest)
+            seconds += rest
         return Outcome(True, None, seconds, metres)
 
     # ------------------------------------------------------------------ helpers
@@ -171,8 +188,8 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
         """What the base may touch: the floor, and the object in its own hand."""
         return [self.scene.floor] + ([self.bodies[self.holding]] if self.holding else [])
 
-    def _place_base(self, q: Point) -> None:
-        self.hsr.set_base(q[0], q[1])
+    def _place_base(self, q: Point, yaw: float | None = None) -> None:
+        self.hsr.set_base(q[0], q[1], yaw)
         self._carry_along()
 
     def _arrive(self, to: Point, metres: float, seconds: float) -> None:
