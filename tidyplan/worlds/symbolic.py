@@ -20,11 +20,12 @@ Durations on the simulated clock (docs/trace.md): driving at the scenario's robo
 HSR's 0.8 km/h = 0.22 m/s by default); a careful pose adjustment at half that; the frames on
 the way and a glance no time of their own; the rest calibrated against the pybullet world,
 whose motions take what the HSR's joint speeds give them: each is the mean of that motion in
-pybullet over 19 Task 1 rooms (`python bench/clock.py PYBULLET_SWEEP SYMBOLIC_SWEEP`, which
-prints both worlds side by side): a head sweep 11 s, a close-range locate 8.3 s (turning to the
-place, tilting the head, raising the torso where the place is too close, recognising), a grasp
-4 s, a placement 12.5 s, a drop 10.5 s; reading how far a drawer is out 1 s; a pull or a push
-9.3 s of arm motions plus the drawer's way at 0.1 m/s.
+pybullet over 18 Task 1 rooms (`python bench/clock.py PYBULLET_SWEEP SYMBOLIC_SWEEP`, which
+prints both worlds side by side; since the base turns on the way to what it works on): a head
+sweep 11 s, a close-range locate 6 s (tilting the head, raising the torso where the place is too
+close, recognising), a grasp 4 s, a placement 9.8 s, a drop 10.5 s (an earlier sweep's); reading
+how far a drawer is out 1 s; a pull or a push 9.3 s of arm motions plus the drawer's way at
+0.1 m/s.
 """
 
 from __future__ import annotations
@@ -51,8 +52,8 @@ from tidyplan.worlds.base import (
 
 Point = tuple[float, float]
 
-# s: the pybullet world's means of each motion (bench/clock.py over 19 Task 1 rooms, see above)
-LOOK_S, LOCATE_S, TAKE_S, DELIVER_S, DROP_S = 11.0, 8.3, 4.0, 12.5, 10.5
+# s: the pybullet world's means of each motion (bench/clock.py over 18 Task 1 rooms, see above)
+LOOK_S, LOCATE_S, TAKE_S, DELIVER_S, DROP_S = 11.0, 6.0, 4.0, 9.8, 10.5
 CLOSE_RANGE = 1.2  # m: what a close-range look (head down, hand camera) sees around the robot
 OPENING_S, HANDLE_S = 1.0, 9.3  # s: a look at a drawer's front; reach its handle, grip, let go, stow
 
