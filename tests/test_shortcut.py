@@ -114,7 +114,7 @@ def test_the_planner_returns_plans_without_detours_and_keep_none_leaves_them(tmp
     domain, problem = _read(tmp_path)
     result = plan(domain, problem, "lama-first", reduce_moves=False)
     assert result.steps[-1].args[-1] == "d" and "shortcut" in result.phases
-    for one, two in zip(result.steps, result.steps[1:]):  # no chain left that one road beats
+    for one, two in zip(result.steps, result.steps[1:], strict=False):  # no chain one road beats
         direct = ROADS.get((one.args[0], two.args[1]))
         assert not (one.name == two.name == "drive" and direct is not None and direct < one.cost + two.cost)
     assert "shortcut" not in plan(domain, problem, "lama-first", reduce_moves=False, keep=None).phases
