@@ -117,7 +117,7 @@ def test_the_deadline_goal_comes_first_with_the_routes_dozen_and_its_drawers():
 
 # ---------------------------------------------------------------------- missions
 # Two toys beside the deposit, three in the far corner, all in sight of the entrance in the middle:
-# in two minutes the near ones are worth it.
+# in a minute and a half the near ones are worth it.
 ROOM = """
 schema = 1
 name = "clock"
@@ -169,16 +169,17 @@ def _mission(tmp_path, scenario, name, **settings):
 
 
 def test_a_scenario_limit_is_planned_against_and_the_rest_tidied_after_it(tmp_path):
-    summary, events = _mission(tmp_path, _room("time_limit_s = 120.0"), "limit")
+    summary, events = _mission(tmp_path, _room("time_limit_s = 95.0"), "limit")
     first = next(e for e in events if e["kind"] == "deadline")
     plan = next(e for e in events if e["kind"] == "plan")
     assert plan["goal_kind"] == "deadline" and plan["goal"] == first["route"]
-    assert len(first["put_off"]) == 3 and f"{len(first['route'])} items" in first["why"]
+    assert first["put_off"] and len(first["route"]) + len(first["put_off"]) == 5
+    assert f"{len(first['route'])} items" in first["why"]
     # the near toys first: the robot takes them standing by the shelf, the far ones after
     takes = [e for e in events if e["kind"] == "action" and e["action"].startswith("(take_object")]
     assert [e["robot"][0] < 2.0 for e in takes] == [True, True, False, False, False]
     assert summary["delivered"] == 5 and summary["success"]  # continue: everything in the end
-    assert summary["time_limit_s"] == 120.0
+    assert summary["time_limit_s"] == 95.0
 
 
 def test_stop_at_the_limit_ends_the_mission_there(tmp_path):

@@ -101,7 +101,7 @@ class FakeWorld:
         return GRASP_MIN, GRASP_BEST, GRASP_MAX
 
     # motions
-    def follow(self, path, monitor=None, *, careful: bool = False) -> Outcome:
+    def follow(self, path, monitor=None, *, careful: bool = False, face=None) -> Outcome:  # no heading
         if self.walled_in and not self._placed() and self.holding is None:
             return Outcome(False, "path_blocked", 1.0)  # every way blocked once all is put away
         metres = sum(math.dist(a, b) for a, b in itertools.pairwise(path))
