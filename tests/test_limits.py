@@ -13,8 +13,10 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+import time
 from pathlib import Path
 
+import pytest
 from processes import descendants, still_running_after
 
 from tidyplan.pddl.reader import read
@@ -125,3 +127,17 @@ def test_a_limit_spent_before_the_search_starts_no_search():
     result = plan(domain, problem, first_plan_limit=0.0)
     assert result.status is Status.TIMEOUT
     assert not descendants(b"downward")
+
+
+def test_the_loops_grounder_stops_at_its_deadline(tmp_path):
+    """The loop grounds in this process (tidyplan.planning.grounding): it looks at the clock as it
+    enumerates, and a deadline already past ends it at its next look."""
+    from tidyplan.pddl.compile import compile_task
+    from tidyplan.planning import grounding
+
+    d, p = write_hard_task(tmp_path, n=7)
+    task = compile_task(*read(d, p))
+    with pytest.raises(grounding.OutOfTime):
+        grounding.Grounder().ground(task.domain, task.problem, deadline=time.perf_counter())
+    # without a deadline the same task grounds (and shows its goal unreachable)
+    assert grounding.Grounder().ground(task.domain, task.problem).unsolvable

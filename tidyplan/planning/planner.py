@@ -255,9 +255,13 @@ def _solve_direct(sub, read_back, engine: Engine, deadline: float, improve, grou
     grounded, why = None, ""
     if grounder is not None:
         try:
-            grounded = grounder.ground(sub.domain, sub.problem)
+            grounded = grounder.ground(sub.domain, sub.problem, deadline)
         except grounding.OutsideFragment as outside:
             why = f"translated by Fast Downward ({outside})"
+        except grounding.OutOfTime:
+            _add(phases, "ground", time.perf_counter() - t0)
+            messages.append("the first-plan limit ran out while grounding")
+            return Outcome.OUT_OF_TIME, None, None, 0
     t1 = time.perf_counter()
     if grounder is not None:
         _add(phases, "ground", t1 - t0)
