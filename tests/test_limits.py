@@ -141,3 +141,19 @@ def test_the_loops_grounder_stops_at_its_deadline(tmp_path):
         grounding.Grounder().ground(task.domain, task.problem, deadline=time.perf_counter())
     # without a deadline the same task grounds (and shows its goal unreachable)
     assert grounding.Grounder().ground(task.domain, task.problem).unsolvable
+
+
+def test_a_mission_whose_replans_run_out_ends_unproven_and_leaves_no_planner(tmp_path):
+    """The loop's rules for a replan not found in time (tidyplan.loop.loop: try the narrower
+    goals, then end saying nothing was proven), with the real planner: every call runs out."""
+    from tidyplan.loop.mission import run
+    from tidyplan.loop.options import Settings
+
+    scenario = Path(__file__).parent.parent / "problems" / "case3.toml"
+    summary = run(scenario, tmp_path / "trace.jsonl", Settings(world="symbolic", first_plan_limit=1e-6))
+    assert not summary["success"]
+    assert "not planned in time, unproven" in summary["reason"]
+    events = [json.loads(line) for line in (tmp_path / "trace.jsonl").read_text().splitlines()]
+    plans = [e for e in events if e.get("kind") == "plan"]
+    assert plans and {e["status"] for e in plans} == {"not-found-in-time"}
+    assert not _planners_left()
