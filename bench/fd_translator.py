@@ -124,7 +124,7 @@ def _median(runs: list[dict], key: str) -> str:
 
 def _status(runs: list[dict]) -> str:
     statuses = sorted({r["status"] for r in runs})
-    valid = {r.get("valid") for r in runs if r.get("solved")}
+    valid = {r["valid"] for r in runs if r.get("solved") and r.get("valid") is not None}
     said = "/".join(statuses)
     if valid:
         said += ", VAL " + ("valid" if valid == {True} else "INVALID")
