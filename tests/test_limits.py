@@ -150,10 +150,11 @@ def test_a_mission_whose_replans_run_out_ends_unproven_and_leaves_no_planner(tmp
     from tidyplan.loop.options import Settings
 
     scenario = Path(__file__).parent.parent / "problems" / "case3.toml"
+    before = _planners_left()  # the translator an earlier test left for later calls, if any
     summary = run(scenario, tmp_path / "trace.jsonl", Settings(world="symbolic", first_plan_limit=1e-6))
     assert not summary["success"]
     assert "not planned in time, unproven" in summary["reason"]
     events = [json.loads(line) for line in (tmp_path / "trace.jsonl").read_text().splitlines()]
     plans = [e for e in events if e.get("kind") == "plan"]
     assert plans and {e["status"] for e in plans} == {"not-found-in-time"}
-    assert not _planners_left()
+    assert _planners_left() <= before
