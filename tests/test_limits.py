@@ -158,3 +158,13 @@ def test_a_mission_whose_replans_run_out_ends_unproven_and_leaves_no_planner(tmp
     plans = [e for e in events if e.get("kind") == "plan"]
     assert plans and {e["status"] for e in plans} == {"not-found-in-time"}
     assert _planners_left() <= before
+
+
+def test_a_translator_worker_that_died_is_replaced_at_the_next_call():
+    domain, problem = read(DERIVED / "domain.pddl", DERIVED / "problem.pddl")
+    translator.warm()
+    dead = translator._shared.process
+    dead.kill()
+    dead.wait()
+    assert plan(domain, problem, time_budget=0.2).status is Status.SOLVED
+    assert translator._shared.process is not dead and translator._shared.process.poll() is None

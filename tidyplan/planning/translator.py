@@ -51,6 +51,7 @@ class Worker:
     def start(self) -> None:
         if self.process is not None and self.process.poll() is None:
             return
+        self.stop()  # one that ended (its parent thread's end sends the parent-death signal): its pipes
         self.process = subprocess.Popen(
             [sys.executable, "-m", "tidyplan.planning.translator"],
             stdin=subprocess.PIPE,
