@@ -15,6 +15,7 @@ import os
 import signal
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 from tidyplan.cli import run as cli_run
@@ -143,15 +144,30 @@ def cmd_check(args) -> int:
 
 
 def cmd_plan(args) -> int:
+    from tidyplan.planning import translator
     from tidyplan.planning.planner import (
         DEFAULT_ENGINE,
         DEFAULT_FIRST_PLAN_LIMIT,
         DEFAULT_TIME_BUDGET,
+        ENGINES,
         Status,
         plan,
     )
 
-    domain, problem = _read(args.domain, args.problem)
+    started = time.perf_counter()  # the first-plan limit counts the reading too
+    if (args.planner or DEFAULT_ENGINE) in ENGINES:
+        translator.warm()  # Fast Downward's translator starts up on the other core while we read
+    limit = args.first_plan_limit or DEFAULT_FIRST_PLAN_LIMIT
+    try:
+        with _alarm(limit):
+            domain, problem = _read(args.domain, args.problem)
+    except _Late:
+        message = f"no plan found within {limit:g} s, nothing proven (the files were still being read)"
+        if args.json:
+            print(json.dumps({"status": Status.TIMEOUT.value, "plan": [], "message": message}))
+        else:
+            print(f"tidyplan: {message}", file=sys.stderr)
+        return 3
     result = plan(
         domain,
         problem,
@@ -159,7 +175,8 @@ def cmd_plan(args) -> int:
         time_budget=args.time_budget or DEFAULT_TIME_BUDGET,
         max_stratum=args.max_stratum,
         strata=not args.no_strata,
-        first_plan_limit=args.first_plan_limit or DEFAULT_FIRST_PLAN_LIMIT,
+        first_plan_limit=limit,
+        started=started,
     )
     if args.json:
         print(json.dumps(result.to_json()))
@@ -170,6 +187,27 @@ def cmd_plan(args) -> int:
     if not args.json:
         print(f"tidyplan: {result.message}", file=sys.stderr)
     return {Status.TIMEOUT: 3, Status.ERROR: 4}.get(result.status, 1)
+
+
+class _Late(Exception):
+    """The first-plan limit ran out while this process itself was busy (reading a file)."""
+
+
+@contextlib.contextmanager
+def _alarm(seconds: float):
+    """Raise _Late in this (the main) thread after `seconds`: our reader cannot be stopped from
+    outside, and a file may be large enough to take the whole limit."""
+
+    def late(signum, frame):
+        raise _Late
+
+    previous = signal.signal(signal.SIGALRM, late)
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3))
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 def _print_plan(result) -> None:

@@ -11,12 +11,13 @@ from collections.abc import Iterable
 
 from tidyplan.errors import Diagnostic
 from tidyplan.pddl import model as m
+from tidyplan.pddl.derived import NotStratified, strata
 
 KNOWN_REQUIREMENTS = frozenset(
     ":strips :typing :negative-preconditions :disjunctive-preconditions :equality "
     ":existential-preconditions :universal-preconditions :quantified-preconditions "
     ":conditional-effects :adl :action-costs :constants :numeric-fluents :fluents "
-    ":object-fluents :probabilities :assumptions :strata".split()
+    ":object-fluents :derived-predicates :probabilities :assumptions :strata".split()
 )
 COST = "total-cost"
 
@@ -96,6 +97,12 @@ class _Checker:
             self.atom(e.atom, scope, self.constants)
             if e.atom.predicate == "=":
                 self.error(e.atom.pos, "equality cannot be an effect")
+            elif e.atom.predicate in self.domain.derived_predicates:
+                self.error(
+                    e.atom.pos,
+                    f"derived predicate '{e.atom.predicate}' cannot be an effect of '{action.name}':"
+                    " its rules alone make it true",
+                )
         elif isinstance(e, m.AndEffect):
             for part in e.parts:
                 self.effect(part, scope, action)
@@ -135,8 +142,37 @@ class _Checker:
         self._duplicates(d.actions, "action")
         for a in d.actions:
             self.action(a)
+        for r in d.derived:
+            self.derived(r)
         self._flags()
         return self.out
+
+    def derived(self, r: m.Derived) -> None:
+        """A rule's head is a declared predicate over distinct variables, typed like an action's
+        parameters; its body is checked like a precondition over them."""
+        self.typed(r.parameters, "parameter")
+        decl = self.domain.predicate(r.predicate)
+        if decl is None:
+            self.error(r.pos, f"undeclared predicate '{r.predicate}'")
+        elif len(decl.parameters) != len(r.parameters):
+            n = len(decl.parameters)
+            given = len(r.parameters)
+            self.error(r.pos, f"'{r.predicate}' takes {n} argument{'s' * (n != 1)}, given {given}")
+        names = [p.name for p in r.parameters]
+        for p in r.parameters:
+            if names.count(p.name) > 1:
+                self.error(p.pos, f"variable '{p.name}' twice in the head of derived '{r.predicate}'")
+                break
+        self.formula(r.body, set(names), self.constants)
+        if r is self.domain.derived[-1]:
+            try:
+                strata(self.domain.derived)
+            except NotStratified as e:
+                self.error(
+                    e.rule.pos,
+                    f"derived predicate '{e.rule.predicate}' depends on the negation of '{e.on}',"
+                    " which depends on it: the rules are not stratified",
+                )
 
     def action(self, a: m.Action) -> None:
         self.typed(a.parameters, "parameter")
@@ -207,6 +243,11 @@ def check_problem(problem: m.Problem, domain: m.Domain) -> list[Diagnostic]:
     names = set(objects)
     for atom in problem.init:
         c.atom(atom, set(), names)
+        if atom.predicate in domain.derived_predicates:
+            c.error(
+                atom.pos,
+                f"derived predicate '{atom.predicate}' cannot be given in :init: its rules derive it",
+            )
     for term, _ in problem.values:
         if term.name != COST:
             c.function_term(term, set(), names)

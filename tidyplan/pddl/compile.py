@@ -16,6 +16,8 @@ What each extension becomes (docs/dialect.md):
   object names carry plans back to the file's own names.
 - Static flags (predicates without parameters that no action changes) are
   folded into the conditions (`tidyplan.pddl.static`).
+- `(:derived ...)` rules are kept as they are (renamed, `either` compiled away), for Fast
+  Downward's translator (its axioms) and VAL.
 """
 
 from __future__ import annotations
@@ -249,6 +251,8 @@ def compile_task(domain: m.Domain, problem: m.Problem, scale: int | None = None)
     plain_reqs = tuple(r for r in domain.requirements if r not in EXTENSION_FLAGS)
     if ":action-costs" not in plain_reqs:
         plain_reqs += (":action-costs",)
+    if domain.derived and ":derived-predicates" not in plain_reqs:
+        plain_reqs += (":derived-predicates",)  # VAL reads the rules only with it
     plain_domain = m.Domain(
         name=domain.name,
         requirements=plain_reqs,
@@ -261,6 +265,10 @@ def compile_task(domain: m.Domain, problem: m.Problem, scale: int | None = None)
         functions=tuple(functions),
         actions=tuple(actions),
         path=domain.path,
+        derived=tuple(
+            m.Derived(names[("predicate", r.predicate)], ren.typed(r.parameters), ren.formula(r.body), r.pos)
+            for r in domain.derived
+        ),
     )
     plain_problem = m.Problem(
         name=problem.name,

@@ -27,6 +27,9 @@ def _either_types(domain: m.Domain, problem: m.Problem) -> set[str]:
         note(a.parameters)
         _walk_formula(a.precondition, note)
         _walk_effect(a.effect, note)
+    for r in domain.derived:
+        note(r.parameters)
+        _walk_formula(r.body, note)
     _walk_formula(problem.goal, note)
     return found
 
@@ -100,6 +103,11 @@ class _Rewrite:
             pre = m.And((*conditions, pre))
         return replace(a, parameters=params, precondition=pre, effect=self.effect(a.effect))
 
+    def derived(self, r: m.Derived) -> m.Derived:
+        params, conditions = self.plain(r.parameters)
+        body = self.formula(r.body)
+        return replace(r, parameters=params, body=m.And((*conditions, body)) if conditions else body)
+
 
 def _is_a(type_name: str, ancestor: str, parents: dict[str, tuple[str, ...]]) -> bool:
     todo, seen = [type_name], set()
@@ -135,6 +143,7 @@ def compile_either(domain: m.Domain, problem: m.Problem) -> tuple[m.Domain, m.Pr
         + tuple(m.Predicate(p, (m.Typed("?x"),)) for p in predicate_of.values()),
         functions=tuple(replace(f, parameters=single(f.parameters)) for f in domain.functions),
         actions=tuple(rewrite.action(a) for a in domain.actions),
+        derived=tuple(rewrite.derived(r) for r in domain.derived),
     )
     facts = tuple(
         m.Atom(predicate_of[t], (o.name,))

@@ -193,6 +193,18 @@ class Action:
     units_pos: Pos = field(default=NOWHERE, compare=False)
 
 
+@dataclass(frozen=True, slots=True)
+class Derived:
+    """`(:derived (name ?x - t ...) body)`: the predicate holds of exactly the tuples for which
+    some rule's body holds, in every state (Fast Downward's axioms; PDDL 2.2's derived
+    predicates). Several rules for one predicate are a disjunction."""
+
+    predicate: str
+    parameters: tuple[Typed, ...]
+    body: Formula
+    pos: Pos = NOWHERE
+
+
 @dataclass(frozen=True)
 class Domain:
     name: str
@@ -204,6 +216,7 @@ class Domain:
     actions: tuple[Action, ...]
     path: str = "<domain>"
     pos: Pos = NOWHERE  # where `(define` is
+    derived: tuple[Derived, ...] = ()  # the rules of the derived predicates, in file order
 
     def __post_init__(self) -> None:
         # Lookup tables, derived once; the dataclass stays a value.
@@ -231,6 +244,11 @@ class Domain:
     @property
     def strata(self) -> tuple[int, ...]:
         return tuple(sorted({a.stratum for a in self.actions}))
+
+    @property
+    def derived_predicates(self) -> frozenset[str]:
+        """The predicates that rules derive: never an effect, never in :init."""
+        return frozenset(r.predicate for r in self.derived)
 
     @property
     def has_costs(self) -> bool:

@@ -74,7 +74,7 @@ def parse(text: str, path: str = "<string>"):
         raise PddlError(Diagnostic(path, e.line, e.column, describe(e, text, _parser().terminals))) from None
     kind = result[0]
     if kind == "domain":
-        _, name, define, parts, actions = result
+        _, name, define, parts, actions, derived = result
         return m.Domain(
             name=name,
             requirements=parts["requirements"],
@@ -85,6 +85,7 @@ def parse(text: str, path: str = "<string>"):
             actions=actions,
             path=path,
             pos=paren_before(define, text),
+            derived=derived,
         )
     _, name, define, items = result
     fields: dict = {}

@@ -26,6 +26,7 @@ def static_flags(domain: m.Domain, problem: m.Problem) -> dict[str, bool]:
     changed: set[str] = set()
     for a in domain.actions:
         _effect_predicates(a.effect, changed)
+    changed |= domain.derived_predicates  # rules make them, state by state
     init = {atom.predicate for atom in problem.init if not atom.args}
     return {p.name: p.name in init for p in domain.predicates if not p.parameters and p.name not in changed}
 
@@ -40,9 +41,16 @@ def fold(domain: m.Domain, problem: m.Problem) -> tuple[m.Domain, m.Problem]:
         if pre is not False:
             actions.append(replace(a, precondition=_formula(pre), effect=_effect(a.effect, flags)))
     goal = simplify(problem.goal, flags)
+    derived = []
+    for r in domain.derived:
+        body = simplify(r.body, flags)
+        if body is not False:  # a rule that can never fire derives nothing
+            derived.append(replace(r, body=_formula(body)))
     used: set[str] = set()
     for f in [problem.goal if goal is False else _formula(goal)] + [a.precondition for a in actions]:
         _formula_predicates(f, used)
+    for r in derived:
+        _formula_predicates(r.body, used)
     for a in actions:
         _effect_predicates(a.effect, used, conditions=True)
     gone = set(flags) - used  # a flag left only under a quantifier stays declared
@@ -54,7 +62,7 @@ def fold(domain: m.Domain, problem: m.Problem) -> tuple[m.Domain, m.Problem]:
             name += "-"
         predicates += (m.Predicate(name, ()),)
         goal = m.Atom(name, ())
-    domain = replace(domain, actions=tuple(actions), predicates=predicates)
+    domain = replace(domain, actions=tuple(actions), predicates=predicates, derived=tuple(derived))
     problem = replace(
         problem,
         init=tuple(a for a in problem.init if a.args or a.predicate not in gone),

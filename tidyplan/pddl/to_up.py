@@ -23,7 +23,7 @@ from unified_planning.model import (
     Variable,
 )
 
-from tidyplan.errors import PlannerError
+from tidyplan.errors import Diagnostic, PddlError, PlannerError
 from tidyplan.pddl import model as m
 from tidyplan.pddl.check import COST
 
@@ -197,5 +197,17 @@ def _increases(e: m.Effect):
 
 def to_up(domain: m.Domain, problem: m.Problem) -> UpTask:
     """Convert a compiled (plain, integer-cost) task to unified-planning."""
+    if domain.derived:
+        r = domain.derived[0]
+        raise PddlError(
+            Diagnostic(
+                domain.path,
+                r.pos.line or None,
+                r.pos.col or None,
+                "unified-planning's model has no derived predicates: plan this domain with one of"
+                " tidyplan's own engines (lama-optimal, lama, lama-first, optimal), which give them"
+                " to Fast Downward",
+            )
+        )
     c = _Converter(domain, problem)
     return UpTask(c.convert(), c.env)

@@ -164,6 +164,9 @@ class Build(Transformer):
     def units(self, c):
         return ("units", tuple(c))
 
+    def derived(self, c):
+        return m.Derived(str(c[0]), c[1], c[2], _pos(c[0]))
+
     def action(self, c):
         return _action(c, is_assumption=False)
 
@@ -173,13 +176,16 @@ class Build(Transformer):
     def domain(self, c):
         parts: dict = {"requirements": (), "types": (), "constants": (), "predicates": (), "functions": ()}
         actions: list[m.Action] = []
+        derived: list[m.Derived] = []
         for item in c[2:]:
             if isinstance(item, m.Action):
                 actions.append(item)
+            elif isinstance(item, m.Derived):
+                derived.append(item)
             else:
                 key, value = item
                 parts[key] = parts[key] + value
-        return ("domain", str(c[1]), c[0], parts, tuple(actions))
+        return ("domain", str(c[1]), c[0], parts, tuple(actions), tuple(derived))
 
     # ----------------------------------------------------------- problem
     def problem_domain(self, c):

@@ -65,6 +65,10 @@ def domain_text(d: m.Domain) -> str:
             f"    ({f.name}{' ' if f.parameters else ''}{_typed(f.parameters)}) - number" for f in d.functions
         )
         out.append("  )")
+    for r in d.derived:
+        head = " ".join((r.predicate, _typed(r.parameters))) if r.parameters else r.predicate
+        out.append(f"  (:derived ({head})")
+        out.append(f"    {formula(r.body)})")
     for a in d.actions:
         kind = "assumption" if a.is_assumption else "action"
         out.append(f"  (:{kind} {a.name}")

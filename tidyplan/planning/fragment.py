@@ -85,6 +85,8 @@ def _effects(e: m.Effect, where: str, variables=(), condition=()) -> tuple[list[
 
 
 def schemas(domain: m.Domain) -> tuple[Schema, ...]:
+    if domain.derived:
+        raise OutsideFragment("derived predicates")
     out = []
     for a in domain.actions:
         where = f"action {a.name}"

@@ -18,6 +18,7 @@ reachability from the new state is computed every time.
 from __future__ import annotations
 
 import itertools
+import time
 from collections.abc import Iterable
 
 from tidyplan.pddl import model as m
@@ -110,8 +111,10 @@ class Grounder:
         self._kept: dict[tuple[str, ...], tuple[tuple, tuple[Schema, ...], dict]] = {}
         self.reused = self.made = 0
 
-    def ground(self, domain: m.Domain, problem: m.Problem) -> Grounded:
-        """Relaxed-reachable ground operators of a compiled task (raises OutsideFragment)."""
+    def ground(self, domain: m.Domain, problem: m.Problem, deadline: float | None = None) -> Grounded:
+        """Relaxed-reachable ground operators of a compiled task (raises OutsideFragment); raises
+        OutOfTime once `deadline` (a time.perf_counter() time) has passed."""
+        clock = _Clock(deadline)
         names = tuple(a.name for a in domain.actions)
         kept = self._kept.get(names)
         if kept is None or kept[0] != domain.actions:  # the same schemas while the actions are the same
@@ -132,7 +135,7 @@ class Grounder:
             (reached if a.predicate in fluent else static).add(a.predicate, a.args)
             if a.predicate in fluent:
                 init.add((a.predicate, *a.args))
-        found = _reachable(schemas, static, reached, fluent, objects, members)
+        found = _reachable(schemas, static, reached, fluent, objects, members, clock)
         # What an operator's effects looked up: it is kept while these are the same.
         everything = {(p, *args) for p, have in reached.by_predicate.items() for args in have}
         every_object = tuple((t, tuple(names)) for t, names in sorted(objects.items()))
@@ -141,6 +144,7 @@ class Grounder:
         operators = []
         self.reused = self.made = 0
         for (name, args), (s, b) in found.items():
+            clock.tick()
             cost = (0 if s.cost is None else _cost(s, b, values)) if domain.has_costs else 1
             # what its effects look up: the static facts its forall conditions match, for its own
             # arguments (where one item blocks a path, the takes of the others are kept)
@@ -205,7 +209,24 @@ def ground(domain: m.Domain, problem: m.Problem) -> Grounded:
     return Grounder().ground(domain, problem)
 
 
-def _reachable(schemas, static, reached, fluent, objects, members) -> dict:
+class OutOfTime(Exception):
+    """The grounding reached its deadline."""
+
+
+class _Clock:
+    """A look at the clock every 1024 ticks (a tick is one operator or binding: microseconds)."""
+
+    def __init__(self, deadline: float | None) -> None:
+        self.deadline = deadline
+        self.n = 0
+
+    def tick(self) -> None:
+        self.n += 1
+        if self.deadline is not None and not self.n & 1023 and time.perf_counter() >= self.deadline:
+            raise OutOfTime
+
+
+def _reachable(schemas, static, reached, fluent, objects, members, clock: _Clock) -> dict:
     """Relaxed reachability: every operator whose positive preconditions can become true, with
     the facts their add effects reach added to `reached`. A schema is enumerated again only when
     a predicate of its preconditions gained facts; an effect whose condition is not reached yet
@@ -237,7 +258,12 @@ def _reachable(schemas, static, reached, fluent, objects, members) -> dict:
             tests = [
                 x for x in s.precondition if x.predicate == "=" or (x.negated and x.predicate not in fluent)
             ]
-            for b in list(_bind(s.precondition, {}, both, objects, s.parameters)):
+            bindings = []
+            for b in _bind(s.precondition, {}, both, objects, s.parameters):
+                clock.tick()
+                bindings.append(b)
+            for b in bindings:
+                clock.tick()
                 key = (s.name, _ground(names, b))
                 if key in found or not _typed(b, s.parameters, members):
                     continue

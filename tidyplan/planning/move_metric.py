@@ -8,8 +8,7 @@ static facts; its costs are the compiled task's integers.
 from __future__ import annotations
 
 import itertools
-
-import numpy as np
+import math
 
 from tidyplan.pddl import model as m
 from tidyplan.pddl.compile import CompiledTask
@@ -46,7 +45,7 @@ def is_metric(
         if amount is None:
             return False  # a move without a cost: leave the task as it is
         edges = groups.setdefault(key, {})
-        edges[(a, c)] = min(amount, edges.get((a, c), np.inf))
+        edges[(a, c)] = min(amount, edges.get((a, c), math.inf))
     return all(map(_closed, groups.values())) and any(map(_has_run, groups.values()))
 
 
@@ -59,6 +58,8 @@ def _has_run(edges: dict[tuple[str, str], float]) -> bool:
 
 
 def _closed(edges: dict[tuple[str, str], float]) -> bool:
+    import numpy as np  # here, not at the top: `tidyplan plan` on a task without moves never pays its import
+
     places = sorted({p for e in edges for p in e})
     index = {p: i for i, p in enumerate(places)}
     n = len(places)

@@ -53,6 +53,8 @@ def reduce_moves(task: CompiledTask) -> Reduced | None:
     """The task with each pure move copied per reader (module doc), or None where no move
     qualifies (the task is then planned as it is)."""
     domain = task.domain
+    if domain.derived:
+        return None  # a rule may read the place anywhere: the readers' argument does not hold
     fluent = _written(domain)
     # a negated fluent no action adds and the problem leaves false holds throughout
     never = _never_added(domain) - {a.predicate for a in task.problem.init}

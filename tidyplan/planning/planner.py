@@ -28,7 +28,7 @@ from tidyplan.pddl import model as m
 from tidyplan.pddl.compile import CompiledTask, compile_task
 from tidyplan.pddl.criterion import Score, score
 from tidyplan.pddl.writer import domain_text, problem_text
-from tidyplan.planning import fastdownward, grounding, moves
+from tidyplan.planning import fastdownward, grounding, moves, translator
 from tidyplan.planning.engines import (
     DEFAULT_ENGINE,
     DEFAULT_FIRST_PLAN_LIMIT,
@@ -132,6 +132,7 @@ def plan(
     reduce_moves: bool = True,
     patience: float | None = None,
     keep: Callable[[str], bool] | None = lambda obj: False,
+    started: float | None = None,
 ) -> PlanResult:
     """One plan for the task, ranked by strata, then by the criterion.
 
@@ -157,11 +158,19 @@ def plan(
     The plan found loses its detours (`tidyplan.planning.shortcut`: two steps of one action that
     chain, one step where that is sound and cheaper), never passing over an object ``keep``
     names; ``keep=None`` leaves the plan as the search found it.
+
+    `started` (a time.perf_counter() time) is when the caller's clock for the first-plan limit
+    began (before reading the files, for `tidyplan plan`); the call's own start otherwise.
+    Translation runs in a worker process killed at the limit (`tidyplan.planning.translator`), the
+    searches in processes killed at it, and the phases in this process are followed by a look at
+    the clock: a call past its limit ends "not found in time" within a fraction of a second.
     """
     start = time.perf_counter()
-    deadline = start + first_plan_limit
-    task = compile_task(domain, problem)
+    deadline = (start if started is None else started) + first_plan_limit
     engine = ENGINES.get(planner, Engine(up_name=planner))
+    if engine.searches and grounder is None:
+        translator.warm()  # the translator's process starts while we compile
+    task = compile_task(domain, problem)
     messages: list[str] = []
     phases = {"compile": time.perf_counter() - start}
 
@@ -174,6 +183,9 @@ def plan(
         _add(phases, "moves", time.perf_counter() - t0)
         if reduced is not None:
             sub = reduced.task
+        if time.perf_counter() >= deadline:
+            messages.append("the first-plan limit ran out before the search")
+            return Outcome.OUT_OF_TIME, None, time.perf_counter() - t0
 
         def read_back(actions) -> list[Step]:
             return _steps([reduced.original(a) for a in actions] if reduced else actions, task)
@@ -254,9 +266,13 @@ def _solve_direct(sub, read_back, engine: Engine, deadline: float, improve, grou
     grounded, why = None, ""
     if grounder is not None:
         try:
-            grounded = grounder.ground(sub.domain, sub.problem)
+            grounded = grounder.ground(sub.domain, sub.problem, deadline)
         except grounding.OutsideFragment as outside:
             why = f"translated by Fast Downward ({outside})"
+        except grounding.OutOfTime:
+            _add(phases, "ground", time.perf_counter() - t0)
+            messages.append("the first-plan limit ran out while grounding")
+            return Outcome.OUT_OF_TIME, None, None, 0
     t1 = time.perf_counter()
     if grounder is not None:
         _add(phases, "ground", t1 - t0)
@@ -268,9 +284,12 @@ def _solve_direct(sub, read_back, engine: Engine, deadline: float, improve, grou
         sas = grounding.sas(grounded)
         _add(phases, "sas", time.perf_counter() - t1)
     else:
-        sas = fastdownward.sas_text(
-            fastdownward.translate(domain_text(sub.domain), problem_text(sub.problem))
-        )
+        try:
+            sas = translator.translate(domain_text(sub.domain), problem_text(sub.problem), deadline)
+        except translator.OutOfTime:
+            _add(phases, "translate", time.perf_counter() - t1)
+            messages.append("the first-plan limit ran out while Fast Downward's translator ran")
+            return Outcome.OUT_OF_TIME, None, None, 0
         _add(phases, "translate", time.perf_counter() - t1)
         if why and why not in messages:
             messages.append(why)
