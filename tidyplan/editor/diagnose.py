@@ -17,9 +17,11 @@ import re
 from dataclasses import dataclass
 
 from tidyplan.editor.index import Index
+from tidyplan.editor.sections import read_domain, splittable
 from tidyplan.editor.sexpr import Node, define
 from tidyplan.errors import Diagnostic, PddlError
 from tidyplan.pddl import model as m
+from tidyplan.pddl.reader import parse
 
 MAX_SYNTAX = 20
 _QUOTED = re.compile(r"'([^']+)'")
@@ -61,15 +63,18 @@ def check(text: str, path: str, ix: Index, domain: m.Domain | None = None) -> Ch
 
 
 def _read(text: str, path: str, ix: Index):
-    from tidyplan.pddl.reader import parse
-
+    """(model or None, the syntax errors, the heads of the sections left out)."""
     errors: list[Diagnostic] = []
     blanked: list[str] = []
     d = define(ix.top)
     sections = [s for s in (d.items if d else []) if isinstance(s, Node)]
+    split = d is not None and ix.kind == "domain" and splittable(d, text)
+    skip: set[int] = set()
     work = text
     for _ in range(MAX_SYNTAX):
         try:
+            if split:
+                return read_domain(d, text, path, frozenset(skip)), errors, blanked
             return parse(work, path), errors, blanked
         except PddlError as e:
             errors += e.diagnostics
@@ -79,6 +84,7 @@ def _read(text: str, path: str, ix: Index):
                 return None, errors, blanked
             sections.remove(section)
             blanked.append(section.head.text)
+            skip.add(section.open.start)
             a, b = section.open.start, section.end
             work = work[:a] + re.sub(r"[^\n]", " ", work[a:b]) + work[b:]
         except Exception as e:  # noqa: BLE001 - a reader fault must not take the editor down

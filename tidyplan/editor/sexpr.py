@@ -9,8 +9,8 @@ Lines and columns are 0-based here, as the Language Server Protocol counts them.
 from __future__ import annotations
 
 import re
-from functools import lru_cache
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import NamedTuple
 
 _TOKEN = re.compile(r";[^\n]*|[()]|[^\s();]+")
