@@ -44,16 +44,28 @@ async def opened(client, path: Path, text: str | None = None, version: int = 1) 
     uri = path.as_uri()
     text = path.read_text() if text is None else text
     client.text_document_did_open(t.DidOpenTextDocumentParams(t.TextDocumentItem(uri, "pddl", version, text)))
-    await client.wait_for_notification(t.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    await settled(client, uri)
     return uri
+
+
+async def settled(client, uri: str) -> None:
+    """Wait until the server has handled everything sent before: it answers requests in order,
+    and publishes a change's diagnostics before it reads the next message, so once a request
+    sent now is answered, every diagnostic of the change has arrived."""
+    await client.text_document_document_symbol_async(t.DocumentSymbolParams(doc(uri)))
+    assert uri in client.diagnostics
 
 
 async def changed(client, uri: str, version: int, changes) -> list[t.Diagnostic]:
     client.text_document_did_change(
         t.DidChangeTextDocumentParams(t.VersionedTextDocumentIdentifier(version=version, uri=uri), changes)
     )
-    await client.wait_for_notification(t.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    await settled(client, uri)
     return list(client.diagnostics[uri])
+
+
+def key(r: t.Range) -> tuple[int, int, int, int]:
+    return (r.start.line, r.start.character, r.end.line, r.end.character)
 
 
 def doc(uri: str) -> t.TextDocumentIdentifier:
@@ -68,11 +80,17 @@ MISTAKES = [
         [("hand-emty", "undeclared predicate 'hand-emty'", False)],
     ),
     (
-        ("(accepts ?d ?c)\n                       (not (closed", "(accepts ?d)\n                       (not (closed"),
+        (
+            "(accepts ?d ?c)\n                       (not (closed",
+            "(accepts ?d)\n                       (not (closed",
+        ),
         [("accepts", "'accepts' takes 2 arguments, given 1", False)],
     ),
     (
-        (":probability 0.98\n    :units ((approach_deposit", ":probability 1.5\n    :units ((approach_deposit"),
+        (
+            ":probability 0.98\n    :units ((approach_deposit",
+            ":probability 1.5\n    :units ((approach_deposit",
+        ),
         [("1.5", "probability 1.5 of 'deliver_it' is outside (0, 1]", False)],
     ),
     (
@@ -83,10 +101,10 @@ MISTAKES = [
     ),
     (
         ("(item-at ?o ?w)))\n", "(item-at ?o ?w) (increase (total-cost) 2)))\n"),
-        [("total-cost", "assumption 'assume-item-near' has a cost effect", False)],
+        [("increase", "assumption 'assume-item-near' has a cost effect", False)],
     ),
     (
-        ("(not (pull-blocked ?d)))", "(not (pull-blocked ?x)))"),
+        ("(not (pull-blocked ?d)))\n    :effect", "(not (pull-blocked ?x)))\n    :effect"),
         [("pull-blocked", "undeclared variable '?x'", False)],
     ),
     (
@@ -98,11 +116,17 @@ MISTAKES = [
         [("pull_handle", "unit 'pull_handle' takes a deposit as deposit; '?w' is a waypoint", False)],
     ),
     (
-        ("(shortest-paths))", "(shortest-paths)\n    (tidied ?o - item))"),
+        (
+            "(shortest-paths))                            ;",
+            "(shortest-paths)\n    (tidied ?o - item))                            ;",
+        ),
         [("tidied", "predicate 'tidied' is declared twice", False)],
     ),
     (
-        (":parameters (?o - item ?w - waypoint)\n    :stratum 3", ":parameters (?o - item ?w - waypint)\n    :stratum 3"),
+        (
+            ":parameters (?o - item ?w - waypoint)\n    :stratum 3",
+            ":parameters (?o - item ?w - waypint)\n    :stratum 3",
+        ),
         [("?w", "undeclared type 'waypint' of parameter '?w'", False)],
     ),
     (
@@ -117,7 +141,7 @@ MISTAKES = [
         [("navigate", "unit (navigate to:waypoint) takes 1 argument, given 2", False)],
     ),
     (
-        (":stratum 1\n    :probability 0.95\n    :units ((approach_handle", ":stratum one\n    :probability 0.95\n    :units ((approach_handle"),
+        (":stratum 1\n    :units ((navigate ?to))", ":stratum one\n    :units ((navigate ?to))"),
         [("one", "unexpected 'one'", False)],
     ),
 ]
@@ -168,41 +192,50 @@ async def test_every_mistake_at_once_is_reported_at_once(client):
 @pytest.mark.asyncio
 async def test_two_syntax_errors_in_two_actions_are_both_reported(client):
     text = DOMAIN.read_text()
-    text = text.replace(":stratum 2\n", ":stratum two\n").replace(":probability 0.98\n    :units ((put", ":probability x\n    :units ((put")
+    text = text.replace(":stratum 2\n", ":stratum two\n").replace(
+        ":probability 0.98\n    :units ((put", ":probability x\n    :units ((put"
+    )
     uri = await opened(client, DOMAIN, text)
     found = {(d.range.start.line, d.message.split(";")[0]) for d in client.diagnostics[uri]}
-    assert (where(text, "two").start.line, "unexpected 'two'") in found
+    assert (where(text, ":stratum two").start.line, "unexpected 'two'") in found
     assert (where(text, ":probability x").start.line, "unexpected 'x'") in found
 
 
 @pytest.mark.asyncio
-async def test_an_unbalanced_parenthesis_points_at_the_one_never_closed(client):
+async def test_an_unbalanced_parenthesis_is_reported_where_the_reader_lost_it(client):
+    """One message, on the action whose '(' the reader found never closed (later ones would
+    only guess: the structure after a lost parenthesis is unknown)."""
     text = DOMAIN.read_text().replace("(:action deliver_it\n", "(:action deliver_it (\n", 1)
     uri = await opened(client, DOMAIN, text)
-    messages = [(d.range, d.message) for d in client.diagnostics[uri]]
-    assert any("is never closed" in m or "unexpected" in m for _, m in messages), messages
-    assert all(r.start.line >= where(text, "(:action deliver_it").start.line for r, _ in messages)
+    [d] = client.diagnostics[uri]
+    assert d.message.startswith("unbalanced parenthesis: '(' is never closed")
+    assert d.range == where(text, "(", text.index("(:action deliver_it"))
 
 
 @pytest.mark.asyncio
 async def test_a_clean_domain_and_problem_have_no_diagnostics(client):
     uri = await opened(client, DOMAIN)
-    assert client.diagnostics[uri] == []
+    assert list(client.diagnostics[uri]) == []
     puri = await opened(client, PROBLEM)
-    assert client.diagnostics[puri] == []
+    assert list(client.diagnostics[puri]) == []
 
 
 @pytest.mark.asyncio
 async def test_a_sequence_of_edits_breaks_and_mends_the_file(client):
     text = DOMAIN.read_text()
     uri = await opened(client, DOMAIN, text)
-    assert client.diagnostics[uri] == []
+    assert list(client.diagnostics[uri]) == []
     # 1. a typo, typed as an incremental change: one character deleted
     r = where(text, "hand-empty))\n    :effect (and (holding")
-    typo = t.Range(t.Position(r.start.line, r.start.character + 7), t.Position(r.start.line, r.start.character + 8))
+    typo = t.Range(
+        t.Position(r.start.line, r.start.character + 7), t.Position(r.start.line, r.start.character + 8)
+    )
     diags = await changed(client, uri, 2, [t.TextDocumentContentChangePartial(range=typo, text="")])
     assert [(d.range, d.message) for d in diags] == [
-        (t.Range(r.start, t.Position(r.start.line, r.start.character + 9)), "undeclared predicate 'hand-emty'")
+        (
+            t.Range(r.start, t.Position(r.start.line, r.start.character + 9)),
+            "undeclared predicate 'hand-emty'",
+        )
     ]
     # 2. a second mistake elsewhere: both reported
     s = where(text, ":stratum 2")
@@ -214,7 +247,10 @@ async def test_a_sequence_of_edits_breaks_and_mends_the_file(client):
     ]
     # 3. the whole define left open: a syntax error, the server still answers
     last = text.rstrip().count("\n")
-    end = t.Range(t.Position(last, len(text.rstrip().splitlines()[-1]) - 1), t.Position(last, len(text.rstrip().splitlines()[-1])))
+    end = t.Range(
+        t.Position(last, len(text.rstrip().splitlines()[-1]) - 1),
+        t.Position(last, len(text.rstrip().splitlines()[-1])),
+    )
     diags = await changed(client, uri, 4, [t.TextDocumentContentChangePartial(range=end, text="")])
     assert any("never closed" in d.message for d in diags), diags
     symbols = await client.text_document_document_symbol_async(t.DocumentSymbolParams(doc(uri)))
@@ -241,7 +277,7 @@ async def test_hover_an_action_shows_parameters_probability_stratum_units_and_co
     assert "(adjust_base ?o) (grasp ?o)" in h
     h = await _hover(client, uri, inside(text, "move", "(:action move\n"))
     assert "cost **(distance ?from ?to)**" in h and "probability **1**" in h
-    h = await _hover(client, uri, inside(text, "possible_ego_pose_adjustment"))
+    h = await _hover(client, uri, inside(text, "possible_ego_pose_adjustment", "(:action possible"))
     assert "stratum **P2**" in h
 
 
@@ -283,14 +319,16 @@ async def test_hover_a_predicate_or_type_shows_its_declaration(client):
     [
         ("item-at", "(:action take_object", "(:predicates"),  # a predicate
         ("waypoint", "(:action move\n", "(:types"),  # a type
-        ("distance", "(:action move\n", "(:functions"),  # a function
+        ("distance", "(increase (total-cost) (distance", "(:functions"),  # a function
         ("?to", ":units ((navigate ?to))", "(:action move\n"),  # a parameter
     ],
 )
 async def test_definition_of_a_name_is_its_declaration(client, name, after, declared_after):
     text = DOMAIN.read_text()
     uri = await opened(client, DOMAIN)
-    found = await client.text_document_definition_async(t.DefinitionParams(doc(uri), inside(text, name, after)))
+    found = await client.text_document_definition_async(
+        t.DefinitionParams(doc(uri), inside(text, name, after))
+    )
     assert [(x.uri, x.range) for x in found] == [(uri, where(text, name, text.index(declared_after)))]
 
 
@@ -304,10 +342,16 @@ def _uses(text: str, pattern: str) -> int:
 async def test_references_find_every_use(client):
     text = DOMAIN.read_text()
     uri = await opened(client, DOMAIN)
-    for name, pattern in [("holding", r"\(holding\b"), ("deposit", r"- deposit\b"), ("move", r"\(:action move\b")]:
+    for name, pattern in [
+        ("holding", r"\(holding\b"),
+        ("deposit", r"- deposit\b"),
+        ("move", r"\(:action move\b"),
+    ]:
         pos = inside(text, name, "(:action deliver_it" if name != "move" else "(:action move\n")
         refs = await client.text_document_references_async(
-            t.ReferenceParams(doc(uri), pos, t.ReferenceContext(include_declaration=True))
+            t.ReferenceParams(
+                text_document=doc(uri), position=pos, context=t.ReferenceContext(include_declaration=True)
+            )
         )
         extra = 1 if name == "deposit" else 0  # its declaration in (:types ...)
         assert len(refs) == _uses(text, pattern) + extra, name
@@ -330,9 +374,13 @@ async def test_a_problem_goes_to_its_domain_and_its_objects(client):
     )
     assert [(x.uri, x.range) for x in found] == [(puri, where(ptext, "wp-o1", ptext.index("(:objects")))]
     refs = await client.text_document_references_async(
-        t.ReferenceParams(doc(puri), inside(ptext, "o4", "(:objects"), t.ReferenceContext(include_declaration=True))
+        t.ReferenceParams(
+            text_document=doc(puri),
+            position=inside(ptext, "o4 - item"),
+            context=t.ReferenceContext(include_declaration=True),
+        )
     )
-    assert len(refs) == _uses(ptext, r"\bo4\b")
+    assert len(refs) == _uses(ptext, r"(?<![\w-])o4(?![\w-])")
     h = await _hover(client, puri, inside(ptext, "item", "o1 o2 o3 o4 - "))
     assert "(in " in h and "tidy.pddl" in h
 
@@ -343,10 +391,14 @@ async def test_a_problem_is_checked_against_its_domain(client):
     bad = text.replace("(robot-at wp-entrance) (hand-empty)", "(robot-at wp-entrnce) (hand-empty wp-o1)")
     bad = bad.replace("o1 o2 o3 o4 - item", "o1 o2 o3 o4 - itm")
     puri = await opened(client, PROBLEM, bad)
-    got = {(d.range, d.message) for d in client.diagnostics[puri]}
-    assert (where(bad, "robot-at", bad.index("(:init")), "undeclared object 'wp-entrnce'") in got
-    assert (where(bad, "hand-empty", bad.index("(:init")), "'hand-empty' takes 0 arguments, given 1") in got
-    assert (where(bad, "o1", bad.index("(:objects")), "undeclared type 'itm' of object 'o1'") in got
+    got = {(key(d.range), d.message) for d in client.diagnostics[puri]}
+    assert (key(where(bad, "robot-at", bad.index("(:init"))), "undeclared object 'wp-entrnce'") in got
+    assert (
+        key(where(bad, "hand-empty", bad.index("(:init"))),
+        "'hand-empty' takes 0 arguments, given 1",
+    ) in got
+    o1 = where(bad, "o1 o2 o3 o4 - itm").start
+    assert ((o1.line, o1.character, o1.line, o1.character + 2), "undeclared type 'itm' of object 'o1'") in got
 
 
 @pytest.mark.asyncio
@@ -355,18 +407,12 @@ async def test_a_problem_follows_its_domain_open_in_the_editor(client):
     problems' diagnostics follow each change of it."""
     dtext, ptext = DOMAIN.read_text(), PROBLEM.read_text()
     puri = await opened(client, PROBLEM)
-    assert client.diagnostics[puri] == []
+    assert list(client.diagnostics[puri]) == []
     duri = await opened(client, DOMAIN)
     renamed = dtext.replace("(hand-empty)\n", "(hand-free)\n", 1)
-    client.text_document_did_change(
-        t.DidChangeTextDocumentParams(
-            t.VersionedTextDocumentIdentifier(version=2, uri=duri), [t.TextDocumentContentChangeWholeDocument(renamed)]
-        )
-    )
-    for _ in range(2):  # the domain's diagnostics and its open problem's
-        await client.wait_for_notification(t.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-    assert (where(ptext, "hand-empty", ptext.index("(:init")), "undeclared predicate 'hand-empty'") in {
-        (d.range, d.message) for d in client.diagnostics[puri]
+    await changed(client, duri, 2, [t.TextDocumentContentChangeWholeDocument(renamed)])
+    assert (key(where(ptext, "hand-empty", ptext.index("(:init"))), "undeclared predicate 'hand-empty'") in {
+        (key(d.range), d.message) for d in client.diagnostics[puri]
     }
 
 

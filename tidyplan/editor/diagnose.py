@@ -78,6 +78,8 @@ def _read(text: str, path: str, ix: Index):
             return parse(work, path), errors, blanked
         except PddlError as e:
             errors += e.diagnostics
+            if e.diagnostics[0].message.startswith("unbalanced parenthesis"):
+                return None, errors, blanked  # the sections after it are guesses: stop here
             where = _offset(work, e.diagnostics[0])
             section = next((s for s in sections if s.open.start <= where < s.end), None)
             if section is None or section.close is None or section.head is None:
