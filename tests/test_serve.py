@@ -139,14 +139,16 @@ def _gripper(balls: int) -> tuple[str, str]:
     :precondition (and (room ?from) (room ?to) (at-robby ?from))
     :effect (and (at-robby ?to) (not (at-robby ?from))))
   (:action pick :parameters (?obj ?room ?gripper)
-    :precondition (and (ball ?obj) (room ?room) (gripper ?gripper) (at ?obj ?room) (at-robby ?room) (free ?gripper))
+    :precondition (and (ball ?obj) (room ?room) (gripper ?gripper) (at ?obj ?room)
+                       (at-robby ?room) (free ?gripper))
     :effect (and (carry ?obj ?gripper) (not (at ?obj ?room)) (not (free ?gripper))))
   (:action drop :parameters (?obj ?room ?gripper)
     :precondition (and (ball ?obj) (room ?room) (gripper ?gripper) (carry ?obj ?gripper) (at-robby ?room))
     :effect (and (at ?obj ?room) (free ?gripper) (not (carry ?obj ?gripper)))))"""
     names = " ".join(f"b{i}" for i in range(balls))
     problem = (
-        f"(define (problem g) (:domain gripper) (:objects ra rb left right {names})\n(:init (room ra) (room rb)"
+        f"(define (problem g) (:domain gripper) (:objects ra rb left right {names})\n"
+        "(:init (room ra) (room rb)"
         " (gripper left) (gripper right) (at-robby ra) (free left) (free right)"
         + "".join(f" (ball b{i}) (at b{i} ra)" for i in range(balls))
         + ")\n(:goal (and"
