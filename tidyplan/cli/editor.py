@@ -30,10 +30,6 @@ def cmd_lsp(args) -> int:
 
 
 def cmd_serve(args) -> int:
-    from tidyplan.cli.main import Terminated
     from tidyplan.editor.service import DEFAULT_LIMIT, serve
 
-    try:
-        return serve(args.host, args.port, args.time_limit or DEFAULT_LIMIT)
-    except Terminated:  # SIGTERM: `serve` has stopped every planner on its way out
-        return 0
+    return serve(args.host, args.port, args.time_limit or DEFAULT_LIMIT)

@@ -7,7 +7,7 @@ from tidyplan.editor.sexpr import Node
 
 
 def complete(ws, doc, offset: int) -> list:
-    from tidyplan.editor.workspace import (
+    from tidyplan.editor.answers import (
         DOMAIN_KEYWORDS,
         FORM_KEYWORDS,
         PROBLEM_KEYWORDS,

@@ -8,7 +8,7 @@ from tidyplan.editor.sexpr import Node
 
 
 def outline(doc) -> list:
-    from tidyplan.editor.workspace import Symbol, _node_range, _range
+    from tidyplan.editor.answers import Symbol, _node_range, _range
 
     ix, text = doc.index, doc.text
     out: list[Symbol] = []
@@ -58,7 +58,7 @@ def outline(doc) -> list:
 
 
 def _wrap(label, kind, kids, detail):
-    from tidyplan.editor.workspace import Symbol
+    from tidyplan.editor.answers import Symbol
 
     first, last = kids[0].range, max((k.range for k in kids), key=lambda r: (r.end_line, r.end_col))
     r = Range(first.line, first.col, last.end_line, last.end_col)

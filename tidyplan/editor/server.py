@@ -78,9 +78,13 @@ def _safe(default):
 
 
 def build() -> LanguageServer:
-    from tidyplan import __version__
+    from importlib.metadata import PackageNotFoundError, version
 
-    server = LanguageServer("tidyplan", __version__)
+    try:
+        ours = version("tidyplan")
+    except PackageNotFoundError:  # run from a clone that is not installed
+        ours = "0"
+    server = LanguageServer("tidyplan", ours)
     ws = Workspace()
     server.tidyplan_workspace = ws  # type: ignore[attr-defined]
 

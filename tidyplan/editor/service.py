@@ -292,6 +292,12 @@ def serve(host: str, port: int, limit: float = DEFAULT_LIMIT) -> int:
     httpd, service = make_server(host, port, limit)
     h, p = httpd.server_address[:2]
     print(f"tidyplan serve: POST http://{h}:{p}/solve (planning limit {limit:g} s)", flush=True)
+
+    # SIGTERM and SIGHUP end the loop as Ctrl-C does, from a thread (`shutdown` waits for it)
+    def stop(_signum, _frame) -> None:
+        threading.Thread(target=httpd.shutdown, daemon=True).start()
+
+    previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGTERM, signal.SIGHUP)}
     try:
         httpd.serve_forever()
     except KeyboardInterrupt:
@@ -300,4 +306,6 @@ def serve(host: str, port: int, limit: float = DEFAULT_LIMIT) -> int:
         service.stop()
         httpd.server_close()
         service.reap_orphans()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
     return 0
