@@ -1,5 +1,6 @@
 """The `tidyplan` command: check, plan, compile (here), run and reproduce (cli_run.py), trace
-(cli_trace.py), sweep (cli_sweep.py).
+(cli_trace.py), sweep (cli_sweep.py), lsp and serve
+(cli/editor.py).
 
 Only this module turns errors into exit statuses: 0 success, 1 no plan (proven, or an incomplete
 search ended without one: the message says which), 2 bad input (a file, an option), 3 no plan
@@ -18,6 +19,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from tidyplan.cli import editor as cli_editor
 from tidyplan.cli import run as cli_run
 from tidyplan.cli import sweep as cli_sweep
 from tidyplan.cli import trace as cli_trace
@@ -82,6 +84,7 @@ def _parser() -> argparse.ArgumentParser:
     cli_run.add_parsers(sub, _positive)
     cli_trace.add_parser(sub)
     cli_sweep.add_parser(sub, _positive)
+    cli_editor.add_parsers(sub, _positive)
     return p
 
 
@@ -309,6 +312,8 @@ COMMANDS = {
     "reproduce": cli_run.cmd_reproduce,
     "trace": cli_trace.cmd_trace,
     "sweep": cli_sweep.cmd_sweep,
+    "lsp": cli_editor.cmd_lsp,
+    "serve": cli_editor.cmd_serve,
 }
 
 
