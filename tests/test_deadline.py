@@ -7,11 +7,11 @@ a detection), and in missions of a small symbolic room whose referee allows a mi
 
 from __future__ import annotations
 
-import json
-
 import pytest
 
 from sim.scenario.read import loads
+from tests.test_loop import ROOM as LOOP_ROOM
+from tests.test_loop import _events, _items
 from tidyplan.belief.geometry import RoomMap, deposit_waypoint
 from tidyplan.belief.problem import robot_waypoint
 from tidyplan.belief.state import Belief, Detection
@@ -118,48 +118,22 @@ def test_the_deadline_goal_comes_first_with_the_routes_dozen_and_its_drawers():
 # ---------------------------------------------------------------------- missions
 # Two toys beside the deposit, three in the far corner, all in sight of the entrance in the middle:
 # in a minute and a half the near ones are worth it.
-ROOM = """
-schema = 1
-name = "clock"
-title = "a room against the clock"
-{limit}
-[room]
-bounds = [0.0, 4.0, 0.0, 4.0]
-entrance = [2.2, 2.2]
-[[furniture]]
-name = "shelf"
-center = [0.2, 1.5]
-size = [0.3, 1.0]
-height = 0.9
-kind = "table"
-[[deposit]]
-name = "box"
-category = "toy"
-position = [0.2, 1.5, 0.9]
-approach = [0.75, 1.5]
-[prior]
-count = {{ toy = 5 }}
-"""
-TOYS = [
-    ("near-a", 1.1, 1.2),
-    ("near-b", 1.1, 1.8),
-    ("far-a", 3.6, 3.5),
-    ("far-b", 3.5, 3.7),
-    ("far-c", 3.7, 3.7),
+# test_loop's room, a metre larger each way, the robot starting in its middle
+ROOM = (
+    LOOP_ROOM.format(name="clock")
+    .replace("bounds = [0.0, 3.0, 0.0, 3.0]", "bounds = [0.0, 4.0, 0.0, 4.0]")
+    .replace("entrance = [2.6, 0.4]", "entrance = [2.2, 2.2]")
+)
+SMALL = (0.06, 0.06, 0.06)
+TOYS = [(n, x, y, SMALL) for n, x, y in (("near-a", 1.1, 1.2), ("near-b", 1.1, 1.8))] + [
+    (n, x, y, SMALL) for n, x, y in (("far-a", 3.6, 3.5), ("far-b", 3.5, 3.7), ("far-c", 3.7, 3.7))
 ]
 
 
 def _room(limit: str = "") -> object:
-    text = ROOM.format(limit=limit)
-    for name, x, y in TOYS:
-        text += (
-            f'[[item]]\nname = "{name}"\ncategory = "toy"\nposition = [{x}, {y}]\nsize = [0.06, 0.06, 0.06]\n'
-        )
-    return loads(text, "clock.toml")
-
-
-def _events(path) -> list[dict]:
-    return [json.loads(line) for line in path.read_text().splitlines()]
+    """The room with the five toys; ``limit`` a top-level line (before the first table)."""
+    text = ROOM.replace('title = "a test room"\n', f'title = "a test room"\n{limit}\n', 1)
+    return loads(text + "[prior]\ncount = { toy = 5 }\n" + _items(TOYS), "clock.toml")
 
 
 def _mission(tmp_path, scenario, name, **settings):
