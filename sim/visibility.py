@@ -159,16 +159,17 @@ def in_frame(
     sensing,
     width: float = 1.0,
     edge_deg: float = 0.0,
+    tilt_deg: float = GLANCE_TILT_DEG,
 ) -> np.ndarray:
     """Which points (``xy`` (N, 2), heights ``z``) lie in the field of one frame from a lens at
     ``camera_xy`` (``sensing.camera_height`` up) looking along ``heading_rad``, tilted
-    GLANCE_TILT_DEG down: range and occlusion aside. ``width`` keeps that share of the field's
-    width, ``edge_deg`` stays that far inside its top and foot."""
+    ``tilt_deg`` down (the driving tilt by default): range and occlusion aside. ``width`` keeps
+    that share of the field's width, ``edge_deg`` stays that far inside its top and foot."""
     dx, dy = xy[:, 0] - camera_xy[0], xy[:, 1] - camera_xy[1]
     bearing = np.degrees((np.arctan2(dy, dx) - heading_rad + math.pi) % (2 * math.pi) - math.pi)
     down = np.degrees(np.arctan2(sensing.camera_height - z, np.hypot(dx, dy)))
-    lo = GLANCE_TILT_DEG - sensing.fov_v_deg / 2 + edge_deg
-    hi = GLANCE_TILT_DEG + sensing.fov_v_deg / 2 - edge_deg
+    lo = tilt_deg - sensing.fov_v_deg / 2 + edge_deg
+    hi = tilt_deg + sensing.fov_v_deg / 2 - edge_deg
     return (np.abs(bearing) <= width * sensing.fov_h_deg / 2) & (down >= lo) & (down <= hi)
 
 

@@ -437,3 +437,113 @@ def test_a_frame_shows_only_its_own_field(world):
     w.hsr.set_base(3.0, 0.6, -math.pi / 2)  # its back to the toy
     assert _toys(w.glance()[0].detections) == []
     assert w.odometer.sim_time_s == 0.0  # a glance takes no time
+
+
+# ---------------------------------------------------------------------- looks that pay
+def test_a_sweep_of_some_stops_sees_only_their_way_in_the_time_their_head_motions_take(world):
+    """A sweep of the stops the belief chose (headings in the room's frame) frames only their
+    way: from vp-open the toy is north of the robot; a stop facing north sees it, one facing
+    south does not; either takes what its head motions take, a fraction of a whole sweep."""
+    from tidyplan.belief.state import SWEEP_STOPS
+    from tidyplan.worlds.base import sweep_pans, sweep_seconds
+
+    w = world(loads(HIDE, "hide.toml"))
+    _place(w, (3.0, 0.6))
+    north, south = SWEEP_STOPS[2], SWEEP_STOPS[5]  # 103 and 257 deg: the toy is at 90 deg
+    clock = w.odometer.sim_time_s
+    assert _toys(w.look((south,))) == []
+    one = w.odometer.sim_time_s - clock
+    assert one == pytest.approx(sweep_seconds(sweep_pans(w.hsr.base()[2], (south,))), abs=0.05)
+    assert _toys(w.look((north,))) == [pytest.approx((3.0, 2.0), abs=0.01)]
+    clock = w.odometer.sim_time_s
+    assert _toys(w.look()) == [pytest.approx((3.0, 2.0), abs=0.01)]
+    whole = w.odometer.sim_time_s - clock
+    # a whole sweep pans the head's range (1.75 to -3.84 rad at 1 rad/s), two tilts 0.5 rad apart at each of 7
+    assert whole >= (1.75 + 3.84) / 1.0 + 7 * 0.5 and one < whole / 3
+
+
+def test_on_the_way_the_head_aims_at_the_item_so_the_close_look_is_the_detector_alone(world):
+    """The base turns to face the item while it drives; in the drive's last moments the head
+    tilts to it too (no faster than 1 rad/s, in no time of the drive's own); the close look
+    that follows finds it in the detector's second and the head's remaining motion."""
+    from tidyplan.worlds.pybullet.look import RECOGNISE_S
+
+    scenario = loads(DRIVE, "drive.toml")  # the toy at (1.0, 0.6) on the floor
+    w = world(scenario)
+    _place(w, (0.5, 2.2))
+    w.hsr.set_head(0.0, -0.35)
+    tilts: list[tuple[float, float]] = []
+    arrive = w._arrive
+
+    def spy(q, d, seconds):
+        tilts.append((seconds, w.hsr.q("head_tilt_joint")))
+        return arrive(q, d, seconds)
+
+    w._arrive = spy
+    path = [(0.5, 2.2), (0.5, 1.4), (1.0, 1.4)]
+    out = w.follow(path, face=(1.0, 0.6))
+    length = math.dist(*path[:2]) + math.dist(*path[1:])
+    assert out.ok and out.seconds == pytest.approx(length / scenario.robot.speed, rel=1e-6)
+    for (_, before), (seconds, after) in zip(tilts, tilts[1:], strict=False):
+        assert abs(after - before) <= 1.0 * seconds + 1e-9
+    assert w.hsr.q("head_tilt_joint") < -0.8  # looking down at the toy 0.8 m ahead
+    clock = w.odometer.sim_time_s
+    seen = w.locate((1.0, 0.6), 0.25, "toy")
+    assert seen is not None and (seen.x, seen.y) == pytest.approx((1.0, 0.6), abs=0.02)
+    assert w.odometer.sim_time_s - clock < RECOGNISE_S + 0.2
+
+
+TABLE_TOY = DRIVE.replace("position = [1.0, 0.6]\n", 'position = [1.9, 1.5]\non = "table"\n')
+
+
+def test_a_close_look_from_too_close_raises_the_torso_first_and_the_grasp_starts_from_there(world):
+    """An item on a table right in front is nearer the lens than its 0.8 m: the torso rises
+    before the one look (no look from too close first), and stays up for the grasp, whose
+    joints move from there; a drive lowers it while it drives, never faster than 0.2 m/s."""
+    from tidyplan.worlds.pybullet.look import RECOGNISE_S
+
+    scenario = loads(TABLE_TOY, "table-toy.toml")
+    w = world(scenario)
+    _place(w, (1.3, 1.5))
+    w.hsr.set_base(1.3, 1.5, 0.0)
+    clock = w.odometer.sim_time_s
+    seen = w.locate((1.9, 1.5), 0.25, "toy")
+    assert seen is not None
+    spent = w.odometer.sim_time_s - clock
+    assert w.hsr.q("arm_lift_joint") == pytest.approx(0.69)  # still up
+    # the rise (0.69 m at 0.2 m/s) and one look: no second look, no way down counted
+    assert 0.69 / 0.2 + RECOGNISE_S <= spent < 0.69 / 0.2 + RECOGNISE_S + 1.6
+    out = w.follow([(1.3, 1.5), (1.2, 1.5)])  # a 0.1 m drive: 0.45 s, the torso's way down 3.45 s
+    assert out.ok and out.seconds == pytest.approx(0.69 / 0.2, rel=1e-6)
+    assert w.hsr.q("arm_lift_joint") == pytest.approx(0.0)
+
+
+def test_on_the_way_to_an_item_too_close_below_the_lens_the_torso_rises_in_the_drives_own_time(world):
+    """The close look at a toy on a table right in front needs the torso up: it rises in the
+    drive's last seconds (no faster than the arm lift's 0.2 m/s, no frames kept meanwhile),
+    and the look is then the detector's second and what the head has left to move."""
+    from tidyplan.worlds.pybullet.look import RECOGNISE_S
+
+    scenario = loads(TABLE_TOY, "table-toy.toml")
+    w = world(scenario)
+    w.hsr.set_base(0.3, 1.5, 0.0)
+    w.robot = (0.3, 1.5)
+    lifts: list[tuple[float, float]] = []
+    arrive = w._arrive
+
+    def spy(q, d, seconds):
+        lifts.append((seconds, w.hsr.q("arm_lift_joint")))
+        return arrive(q, d, seconds)
+
+    w._arrive = spy
+    out = w.follow([(0.3, 1.5), (1.3, 1.5)], face=(1.9, 1.5))
+    assert out.ok and out.seconds == pytest.approx(1.0 / scenario.robot.speed, rel=1e-6)
+    for (_, before), (seconds, after) in zip(lifts, lifts[1:], strict=False):
+        assert after - before <= 0.2 * seconds + 1e-9
+    assert w.hsr.q("arm_lift_joint") == pytest.approx(0.69)
+    # the rise began 0.8 m before the end, before the first frame's half metre: no frame on the way,
+    # and none from here with the torso up (the belief's frames are from the lens at its usual height)
+    assert w.glance() == []
+    clock = w.odometer.sim_time_s
+    assert w.locate((1.9, 1.5), 0.25, "toy") is not None
+    assert w.odometer.sim_time_s - clock < RECOGNISE_S + 0.3

@@ -168,10 +168,10 @@ def test_under_a_horizon_a_new_item_waits_for_the_next_horizon(tmp_path, monkeyp
     scenario = _scenario("horizon", [(f"t{i}", x, y) for i, (x, y) in enumerate(spots)], table, on="table")
     real, looks = SymbolicWorld.look, {"n": 0}
 
-    def look(self):
+    def look(self, stops=None):
         looks["n"] += 1
         late = looks["n"] <= 6  # the 14th toy is missed by the first six looks
-        return [d for d in real(self) if not (late and (d.x, d.y) == spots[-1])]
+        return [d for d in real(self, stops) if not (late and (d.x, d.y) == spots[-1])]
 
     monkeypatch.setattr(SymbolicWorld, "look", look)
     summary, events = _run(tmp_path, scenario)
@@ -214,10 +214,10 @@ def test_when_nothing_more_can_be_done_the_referee_decides(tmp_path, monkeypatch
 
     real, looks = SymbolicWorld.look, {"n": 0}
 
-    def look(self):
+    def look(self, stops=None):
         looks["n"] += 1
         phantom = [Detection("toy", 2.93, 2.93, "floor", 0.06, 0.06, 0.08)] if looks["n"] == 1 else []
-        return real(self) + phantom
+        return real(self, stops) + phantom
 
     monkeypatch.setattr(SymbolicWorld, "look", look)
     cupboard = (  # where CRATE stands in the other tests, as furniture: the corner stays shut

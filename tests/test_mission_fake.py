@@ -73,7 +73,7 @@ class FakeWorld:
         self.motions = 0
 
     # senses
-    def look(self) -> list[Detection]:
+    def look(self, stops=None) -> list[Detection]:
         self.odometer.sim_time_s += 1.0
         return self._shown()
 

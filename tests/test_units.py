@@ -108,7 +108,7 @@ def test_an_item_forgotten_by_a_later_look_of_the_same_action_is_not_reported_ne
     world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
     looks = iter([[Detection("toy", 0.9, 1.6, "floor")], []])
 
-    def observe(_detections, waypoint, why=""):
+    def observe(_detections, waypoint, why="", stops=None):
         update = belief.observe(next(looks), waypoint)
         return update.new
 
@@ -323,14 +323,20 @@ def test_each_look_after_an_action_says_what_it_was_for():
     belief.robot = world.robot
     ctx = Context(world, belief, lambda d, w, why="": [])
     assert belief.look_finds(world.robot) > 0.05  # nothing seen yet, two toys expected
-    assert Look(ctx, None).why().startswith("unseen space in view: ")
-    assert Look(ctx, None, after_failure=True).why() == "after a failure: what changed?"
+    why, stops = Look(ctx, None).why()
+    assert why.startswith("unseen space in view: ")
+    assert Look(ctx, None, after_failure=True).why() == ("after a failure: what changed?", None)  # all around
     belief.observe([Detection("toy", 1.8, 1.0, "floor"), Detection("toy", 0.6, 2.6, "floor")], None)
     assert belief.virtual() == [] and belief.look_finds(world.robot) == 0.0  # both found
     assert Look(ctx, None).why() is None  # nothing a sweep could find here: the glance only
     tall = belief.observe([Detection("toy", 1.2, 1.2, "floor", 0.3, 0.3, 0.45)], None).new[0]
     belief.items[tall].state, belief.holding = "held", tall
-    assert Look(ctx, None, took=tall).why().startswith(f"{tall} (0.45 m tall) taken away")
+    why, stops = Look(ctx, None, took=tall).why()
+    assert why.startswith(f"{tall} (0.45 m tall) taken away")
+    # what it hid lies beyond where it stood: the three stops around that way, not all around
+    toward = math.atan2(1.2 - world.robot[1], 1.2 - world.robot[0])
+    assert len(stops) == 3
+    assert min(abs((h - toward + math.pi) % math.tau - math.pi) for h in stops) <= math.pi / 7
 
 
 def test_after_an_action_where_no_sweep_pays_the_robot_glances_in_no_time():
@@ -347,7 +353,7 @@ def test_after_an_action_where_no_sweep_pays_the_robot_glances_in_no_time():
     belief.robot = world.robot
     whys = []
 
-    def observe(detections, waypoint, why="", frames=None):
+    def observe(detections, waypoint, why="", frames=None, stops=None):
         whys.append((why, frames is not None))
         for f in frames or []:
             belief.observe(f.detections, None, f)
@@ -372,3 +378,45 @@ def test_after_an_action_where_no_sweep_pays_the_robot_glances_in_no_time():
     for _ in range(2):
         belief.observe([], None, east)
     assert (t1.misses, t2.misses) == (2, 0)
+
+
+def test_a_sweep_is_taken_stop_by_stop_where_the_space_nobody_has_seen_is():
+    """Look where it pays: a stop's expected finds are its part of the sweep's (they add up to
+    it); with the space east of the robot seen, the unseen-space sweep takes only stops facing
+    the rest; a sweep of some stops marks seen, and counts misses in, their frames only."""
+    from tidyplan.belief.state import SWEEP_STOPS, Belief
+    from tidyplan.exec.units import STOP_FINDS, Context, Look
+
+    scenario = _scenario("stops", [("t1", 1.8, 1.0), ("t2", 0.6, 2.6)])
+    room = RoomMap(scenario)
+    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
+    belief = Belief(scenario, room)
+    here = belief.robot = world.robot = (1.5, 1.5)
+    per_stop = belief.stop_finds(here)
+    assert [h for h, _ in per_stop] == list(SWEEP_STOPS)
+    assert sum(f for _, f in per_stop) == pytest.approx(belief.look_finds(here))
+    east = (SWEEP_STOPS[0],)  # 0 deg
+    belief.observe([], None, stops=east)
+    after = dict(belief.stop_finds(here))
+    assert after[SWEEP_STOPS[0]] == pytest.approx(0.0, abs=1e-9)  # what it framed is seen
+    assert all(after[h] > 0 for h in SWEEP_STOPS[2:6])  # the west is not
+    ctx = Context(world, belief, lambda d, w, why="", stops=None: [])
+    why, stops = Look(ctx, None).why()
+    assert stops is not None and SWEEP_STOPS[0] not in stops
+    assert all(f >= STOP_FINDS for h, f in belief.stop_finds(here) if h in stops)
+    assert why.endswith(f"({len(stops)} of 7 stops)")
+
+
+def test_a_sweep_of_some_stops_counts_a_miss_only_in_their_frames():
+    from tidyplan.belief.state import SWEEP_STOPS, Belief, Detection
+
+    scenario = _scenario("misses", [("t1", 2.5, 1.5), ("t2", 0.5, 1.5)])
+    room = RoomMap(scenario)
+    belief = Belief(scenario, room)
+    belief.robot = (1.5, 1.5)
+    belief.observe([Detection("toy", 2.5, 1.5, "floor"), Detection("toy", 0.5, 1.5, "floor")], None)
+    east_toy = next(k for k in belief.items.values() if k.x > 2)
+    west_toy = next(k for k in belief.items.values() if k.x < 1)
+    assert belief.should_see(east_toy) and belief.should_see(west_toy)
+    belief.observe([], None, stops=(SWEEP_STOPS[0],))  # a stop facing east shows neither toy now
+    assert (east_toy.misses, west_toy.misses) == (1, 0)

@@ -33,7 +33,7 @@ import numpy as np
 
 from sim.grid import Box
 from sim.scenario.model import DrawerLayout, Scenario, drawer_layout, out_boxes
-from sim.visibility import Box3, in_frame, visible, visible_points
+from sim.visibility import GLANCE_TILT_DEG, Box3, in_frame, visible, visible_points
 from tidyplan.belief import viewpoints
 from tidyplan.belief.geometry import ENTRANCE, MapFacts, Placed, RoomMap
 
@@ -97,16 +97,22 @@ class Detection:
 class Frame:
     """One camera frame the robot took on its way (driving, or at work), at no cost in time: the
     camera runs while the robot moves. Where the lens stood (x, y), which way it looked (rad, the
-    room's frame; tilted ``sim.visibility.GLANCE_TILT_DEG`` down), what the detector reported."""
+    room's frame), how far down it was tilted (degrees; the driving tilt by default, a head aimed
+    at the robot's work lower), what the detector reported."""
 
     at: Point
     heading: float | None  # None: a camera that sees all around (a fake world's)
     detections: list[Detection]
+    tilt_deg: float = GLANCE_TILT_DEG
 
 
 # Of a frame's field, the part where a miss counts (its edges cut objects, and the head's pan
 # lags the base's turn): the central share of the width, and this many degrees inside its top and foot
 MISS_WIDTH, MISS_EDGE_DEG = 0.8, 3.0
+# A sweep's stops as the belief chooses them: headings in the room's frame this far apart (360/7 deg,
+# under the camera's 58 deg width, so that the stops' frames overlap), each frame at both tilts (the
+# floor from the robot's feet to table tops, as a whole sweep's)
+SWEEP_STOPS = tuple(2 * math.pi * k / 7 for k in range(7))
 
 
 @dataclass(slots=True)
@@ -240,18 +246,27 @@ class Belief:
         self.reached.add(waypoint)
 
     def observe(
-        self, detections: list[Detection], waypoint: str | None, frame: Frame | None = None
+        self,
+        detections: list[Detection],
+        waypoint: str | None,
+        frame: Frame | None = None,
+        stops: tuple[float, ...] | None = None,
     ) -> Update:
-        """A sweep from where the robot stands, or one ``frame`` taken on the way (``detections``
-        are then the frame's): add, confirm and forget items; mark the space it showed seen. A
-        frame shows, and counts misses in, its own field only."""
+        """A sweep from where the robot stands (of the pan ``stops`` given, headings in the room's
+        frame; all around by default), or one ``frame`` taken on the way (``detections`` are then
+        the frame's): add, confirm and forget items; mark the space it showed seen. A frame, and
+        a sweep of some stops, show and count misses in their own field only."""
         update = Update()
         at = self.robot if frame is None else frame.at
         wedge = frame is not None and frame.heading is not None
-        if not wedge:
+        if stops is not None:  # a sweep of some stops: what their frames show, at both tilts
+            self.seen |= self._view(at) & self._in_stops(at, stops, self._targets[:, :2])
+        elif not wedge:
             self.seen |= self._view(at)
         else:
-            field = self._in_frame(at, frame.heading, self._targets[:, :2], self._targets[:, 2])
+            field = self._in_frame(
+                at, frame.heading, self._targets[:, :2], self._targets[:, 2], tilt=frame.tilt_deg
+            )
             self.seen[np.flatnonzero(field)[self._frame_view(at, field)]] = True
         if waypoint is not None:
             self.looked_from.add(waypoint)
@@ -278,7 +293,12 @@ class Belief:
         for k in self.untidied():
             if k.state != "placed" or k.name in matched or not self.should_see(k, at):
                 continue
-            if wedge and not self._in_frame(at, frame.heading, *self._xyz(k), miss=True)[0]:
+            if (
+                wedge
+                and not self._in_frame(at, frame.heading, *self._xyz(k), miss=True, tilt=frame.tilt_deg)[0]
+            ):
+                continue
+            if stops is not None and not self._in_stops(at, stops, self._xyz(k)[0], MISS_WIDTH)[0]:
                 continue
             k.misses += 1
             if k.misses >= FORGET_AFTER:
@@ -464,11 +484,17 @@ class Belief:
         return np.array([[k.x, k.y]]), np.array([self._z(k)])
 
     def _in_frame(
-        self, at: Point, heading: float, xy: np.ndarray, z: np.ndarray, miss: bool = False
+        self,
+        at: Point,
+        heading: float,
+        xy: np.ndarray,
+        z: np.ndarray,
+        miss: bool = False,
+        tilt: float = GLANCE_TILT_DEG,
     ) -> np.ndarray:
         """``sim.visibility.in_frame``; ``miss``: only the part where a miss counts."""
         width, edge = (MISS_WIDTH, MISS_EDGE_DEG) if miss else (1.0, 0.0)
-        return in_frame(at, heading, xy, z, self.scenario.sensing, width, edge)
+        return in_frame(at, heading, xy, z, self.scenario.sensing, width, edge, tilt)
 
     def _frame_view(self, at: Point, field: np.ndarray) -> np.ndarray:
         """Of the placement points in a frame's ``field``, those in range and line of sight."""
@@ -514,16 +540,49 @@ class Belief:
         while some space is unseen (as ``virtual``) without ``virtual``'s map facts, which the
         action has made stale."""
         unseen = ~self.seen
-        if self.prior is None:
-            missing = len(self.categories)
-        else:
-            have = Counter(k.category for k in self.items.values())
-            missing = sum(max(0, self.prior[c] - have[c]) for c in self.categories)
-        total = int(unseen.sum())
+        missing, total = self._missing(), int(unseen.sum())
         if missing == 0 or total == 0:
             return 0.0
         share = float((self._view(at) & unseen).sum()) / total
         return missing * share * (1.0 - self.scenario.sensing.false_negative)
+
+    def _missing(self) -> int:
+        """How many items nobody has found: the prior's count less those known, or one per
+        category without a prior (as ``virtual``)."""
+        if self.prior is None:
+            return len(self.categories)
+        have = Counter(k.category for k in self.items.values())
+        return sum(max(0, self.prior[c] - have[c]) for c in self.categories)
+
+    def stop_finds(self, at: Point) -> list[tuple[float, float]]:
+        """For each of a sweep's stops (SWEEP_STOPS): its heading and the items nobody has found
+        that its frames are expected to find (``look_finds``, of the part of the view nearer that
+        stop's heading than any other's, so that the stops' finds add up to the sweep's)."""
+        unseen = ~self.seen
+        missing, total = self._missing(), int(unseen.sum())
+        if missing == 0 or total == 0:
+            return [(h, 0.0) for h in SWEEP_STOPS]
+        shown = self._view(at) & unseen
+        xy = self._targets[:, :2]
+        bearing = np.arctan2(xy[:, 1] - at[1], xy[:, 0] - at[0]) % (2 * math.pi)
+        nearest = np.rint(bearing / (2 * math.pi / len(SWEEP_STOPS))).astype(int) % len(SWEEP_STOPS)
+        hit = 1.0 - self.scenario.sensing.false_negative
+        return [
+            (h, missing * float((shown & (nearest == i)).sum()) / total * hit)
+            for i, h in enumerate(SWEEP_STOPS)
+        ]
+
+    def _in_stops(
+        self, at: Point, stops: tuple[float, ...], xy: np.ndarray, width: float = 1.0
+    ) -> np.ndarray:
+        """Which points ``xy`` lie within ``width`` of the camera's width of one of the ``stops``'
+        headings from ``at`` (a stop's frames at both tilts hold the floor and the table tops)."""
+        bearing = np.arctan2(xy[:, 1] - at[1], xy[:, 0] - at[0])
+        half = math.radians(width * self.scenario.sensing.fov_h_deg / 2)
+        inside = np.zeros(len(xy), dtype=bool)
+        for h in stops:
+            inside |= np.abs((bearing - h + math.pi) % (2 * math.pi) - math.pi) <= half
+        return inside
 
     def reset_exploration(self) -> None:
         """Forget what was seen: the floor changed, so views that were blocked may be open now."""

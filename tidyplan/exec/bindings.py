@@ -83,7 +83,7 @@ class MonitoredExecutor:
         )
 
     def look(self) -> list:
-        """A look around from where the robot stands: the detections (``Skills.locate``)."""
+        """A look around from where the robot stands: the detections (``Skills.look``)."""
         return self.world.look()
 
     def look_into(self, deposit: str) -> list:

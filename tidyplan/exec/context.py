@@ -18,7 +18,7 @@ class Context:
 
     world: Skills
     belief: Belief
-    # observe(detections, waypoint, why, frames=None) -> names of new items (the loop's)
+    # observe(detections, waypoint, why, frames=None, stops=None) -> names of new items (the loop's)
     observe: object
     new: list[str] = field(default_factory=list)
     start: Point | None = None  # the waypoint the action starts from, where the map has it
@@ -26,11 +26,14 @@ class Context:
     # a grasp from the pose an adjustment's close look was made from needs no look of its own
     located: dict[str, tuple[Point, Point, tuple[float, float, float]]] = field(default_factory=dict)
 
-    def look(self, waypoint: str | None = None, why: str = "") -> None:
-        """A head sweep from where the robot stands; ``why`` it was taken, for the trace."""
+    def look(
+        self, waypoint: str | None = None, why: str = "", stops: tuple[float, ...] | None = None
+    ) -> None:
+        """A head sweep from where the robot stands (all around, or the pan ``stops`` only,
+        headings in the room's frame); ``why`` it was taken, for the trace."""
         # an item first seen by an earlier look of this action may be forgotten by this one (a
         # false detection the next looks did not confirm): it is no longer new
-        seen = self.observe(self.world.look(), waypoint, why)
+        seen = self.observe(self.world.look(stops), waypoint, why, stops=stops)
         self.new = [n for n in self.new + seen if n in self.belief.items]
 
     def glance(self, why: str) -> None:

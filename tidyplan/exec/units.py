@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 
 from tidyplan.belief.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, deposit_waypoint, straight
+from tidyplan.belief.state import SWEEP_STOPS
 from tidyplan.exec.catalogue import (
     ADJUST_BASE,
     ADJUST_POSE,
@@ -42,6 +43,10 @@ ADJUST_PATH_MAX = 1.5  # m: the longest careful base adjustment around an item
 BUMP_RADIUS = 0.6  # m around the robot a close look searches after the base was stopped
 BUMP_AHEAD = 0.4  # m ahead, along the way it was going, where that close look is aimed
 MIN_FINDS = 0.05  # items a sweep is expected to find, at least, for that to be why it is taken
+# s one stop adds to a sweep (pan 51 deg across, the second tilt, at 1 rad/s): a stop is swept
+# where it is expected to find its share of MIN_FINDS in a whole sweep's 11 s, per second
+STOP_S = 1.4
+STOP_FINDS = MIN_FINDS / 11.0 * STOP_S
 HIDES = 0.25  # m: an item this tall hides what lies behind it (case III's 0.45 m boxes hide a tool)
 
 
@@ -63,8 +68,9 @@ class Navigate(Unit):
 
     def check(self):
         self.tries += 1
-        if self.tries > 1:
-            self.ctx.look(why="a drive stopped: what is in the way now?")
+        if self.tries > 1:  # what stopped it is ahead: the stops around the way it was going
+            heading = _way_ahead(self.ctx.world.pose(), self.path or [self.goal])
+            self.ctx.look(why="a drive stopped: what is in the way now?", stops=_stops_around(heading))
         return None
 
     def plan(self):
@@ -367,24 +373,45 @@ class Look(Unit):
         self.ctx.glance(GLANCE_WHY)
         why = self.why()
         if why is not None:
-            self.ctx.look(self.waypoint, why)
+            self.ctx.look(self.waypoint, *why)
         return None
 
-    def why(self) -> str | None:
-        """Why a sweep pays here, or None where the glance is enough."""
+    def why(self) -> tuple[str, tuple[float, ...] | None] | None:
+        """Why a sweep pays here, and its stops (None: all around), or None where the glance is
+        enough. After a failure what changed may be anywhere around; what a tall item hid lies
+        beyond where it stood; at a viewpoint the plan came to look from, all around where it may
+        find anything; elsewhere the space nobody has seen is swept stop by stop, where a stop is
+        expected to find STOP_FINDS items or more, when the prior says how many are missing (its
+        rounds of exploration look again for what every look missed); without one, all around
+        where MIN_FINDS are expected."""
         if self.after_failure:
-            return "after a failure: what changed?"
+            return "after a failure: what changed?", None
         belief = self.ctx.belief
+        here = self.ctx.world.pose()
         taken = belief.items.get(self.took or "")
         if taken is not None and taken.sz >= HIDES:
-            return f"{taken.name} ({taken.sz:.2f} m tall) taken away: what it hid is in view"
-        finds = belief.look_finds(self.ctx.world.pose())
-        at_viewpoint = belief.room.fixed_kind.get(self.waypoint or "") == "viewpoint"
-        if at_viewpoint and finds > 0:
-            return f"a viewpoint: {finds:.2f} items expected found"
-        if finds >= MIN_FINDS:
-            return f"unseen space in view: {finds:.2f} items expected found"
-        return None
+            stops = _stops_around(math.atan2(taken.y - here[1], taken.x - here[0]))
+            return f"{taken.name} ({taken.sz:.2f} m tall) taken away: what it hid is in view", stops
+        if belief.room.fixed_kind.get(self.waypoint or "") == "viewpoint":
+            # all around: what the plan came here for, and a second chance at what the first
+            # looks missed (the detector misses one in five: only the sweeps look again)
+            finds = belief.look_finds(here)
+            return (f"a viewpoint: {finds:.2f} items expected found", None) if finds > 0 else None
+        if belief.prior is None:
+            # nothing says how many are missing, so nothing sends the robot back for an item every
+            # look so far missed: the sweeps all around are its second chance
+            finds = belief.look_finds(here)
+            return (
+                (f"unseen space in view: {finds:.2f} items expected found", None)
+                if finds >= MIN_FINDS
+                else None
+            )
+        chosen = [(h, f) for h, f in belief.stop_finds(here) if f >= STOP_FINDS and f > 0]
+        if not chosen:
+            return None
+        finds = sum(f for _, f in chosen)
+        stops = None if len(chosen) == len(SWEEP_STOPS) else tuple(h for h, _ in chosen)
+        return f"unseen space in view: {finds:.2f} items expected found ({len(chosen)} of 7 stops)", stops
 
 
 GLANCE_WHY = "frames on the way: for the monitor, what moved, what nobody announced"
@@ -435,6 +462,21 @@ def _locate(ctx: Context, item: str, unit) -> Failure | None:
     unit.target = (seen.x, seen.y)
     unit.reach = ctx.world.grasp_distances(seen.sz)
     return None
+
+
+def _way_ahead(pose: Point, path: list[Point]) -> float:
+    """The heading (room's frame) of the way ``path`` goes on from ``pose``: toward its first
+    point half a metre or more beyond the point of it nearest the robot."""
+    near = min(range(len(path)), key=lambda i: math.dist(path[i], pose))
+    ahead = next((q for q in path[near:] if math.dist(q, pose) >= 0.5), path[-1])
+    return math.atan2(ahead[1] - pose[1], ahead[0] - pose[0])
+
+
+def _stops_around(heading: float) -> tuple[float, ...]:
+    """The sweep's stop nearest ``heading`` and those either side of it: 154 deg across."""
+    n = len(SWEEP_STOPS)
+    i = round((heading % (2 * math.pi)) / (2 * math.pi / n)) % n
+    return tuple(SWEEP_STOPS[(i + k) % n] for k in (-1, 0, 1))
 
 
 def _dedupe(path: list[Point]) -> list[Point]:

@@ -26,6 +26,7 @@ domain only through the belief, the problem writer and the executor.
 
 from __future__ import annotations
 
+import math
 import os
 from collections import Counter
 from collections.abc import Callable
@@ -405,19 +406,24 @@ class Mission:
         kept = {a for a in self.belief.memory if a[0] not in self._remembered}
         self.belief.memory = kept | {a for a in after if a[0] in self._remembered}
 
-    def _observe(self, detections, waypoint, why: str = "", frames=None) -> list[str]:
-        """A sweep's ``detections`` from ``waypoint``, or the ``frames`` of a glance (each with
-        its own detections, from its own place), into the belief; one trace event for them."""
+    def _observe(self, detections, waypoint, why: str = "", frames=None, stops=None) -> list[str]:
+        """A sweep's ``detections`` from ``waypoint`` (of the pan ``stops`` given, all around by
+        default), or the ``frames`` of a glance (each with its own detections, from its own
+        place), into the belief; one trace event for them: for every sweep (why it was taken),
+        for a glance that saw something."""
         if frames is None:
-            updates, seen = [self.belief.observe(detections, waypoint)], len(detections)
+            updates, seen = [self.belief.observe(detections, waypoint, stops=stops)], len(detections)
         else:
             updates = [self.belief.observe(f.detections, None, f) for f in frames]
             seen = sum(len(f.detections) for f in frames)
         new = [n for u in updates for n in u.new]
         forgotten = [n for u in updates for n in u.forgotten]
-        if seen or new or forgotten:
+        if frames is None or seen or new or forgotten:
             confirmed = list(dict.fromkeys(n for u in updates for n in u.confirmed))
-            fields = {} if frames is None else {"frames": len(frames)}
+            if frames is not None:
+                fields = {"frames": len(frames)}
+            else:  # the stops' headings, degrees in the room's frame
+                fields = {} if stops is None else {"stops": [round(math.degrees(h)) for h in stops]}
             self.trace.emit(
                 "observe",
                 waypoint=waypoint,

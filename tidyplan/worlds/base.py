@@ -32,6 +32,43 @@ TAKE_TOLERANCE = 0.15  # m: the gripper closes on an item this close to where it
 # m driven between the frames the camera keeps on the way (it runs at 30 Hz; a frame each half
 # metre is enough at 0.22 m/s: consecutive 58 deg frames overlap from 0.5 m out)
 FRAME_EVERY = 0.5
+# The head's pan (rad from the base's heading; 1.0 rad/s both ways, ../shared/HSR.md) and a sweep's
+# two tilts a stop (7 deg above to 60 deg below the horizon: the floor from 0.6 m out and table tops)
+PAN_LEFT, PAN_RIGHT, HEAD_SPEED = 1.75, -3.84, 1.0
+TILTS = (-0.65, -0.15)
+
+
+def sweep_pans(yaw: float, stops, pan_now: float = 0.0) -> list[float]:
+    """The head's pans for a sweep of the ``stops`` (headings in the room's frame) from a base
+    heading ``yaw``, in the order the head visits them: from the end nearer where it pans now to
+    the other, so it never swings back. A heading the head cannot pan to (behind, on the left)
+    is looked at from the nearer end of its range, whose frame still reaches it."""
+    pans = set()
+    for h in stops:
+        pan = (h - yaw + math.pi) % (2 * math.pi) - math.pi  # in (-pi, pi]
+        if pan > PAN_LEFT:  # behind on the left: the long way round, or the nearer end
+            right = pan - 2 * math.pi
+            pan = (
+                right
+                if right >= PAN_RIGHT
+                else min((PAN_LEFT, PAN_RIGHT), key=lambda e: min(abs(e - pan), math.tau - abs(e - pan)))
+            )
+        pans.add(round(pan, 4))
+    order = sorted(pans, reverse=True)  # left to right
+    if order and abs(order[-1] - pan_now) < abs(order[0] - pan_now):
+        order.reverse()
+    return order
+
+
+def sweep_seconds(pans: list[float], pan_now: float = 0.0, tilt_now: float = -0.35) -> float:
+    """What a sweep of ``pans`` takes, every joint at its speed: to the first stop, both tilts at
+    each, across to the next, and back to the driving tilt (the pybullet world's head, moved)."""
+    if not pans:
+        return 0.0
+    seconds = max(abs(pans[0] - pan_now), abs(TILTS[0] - tilt_now)) / HEAD_SPEED
+    seconds += abs(pans[-1] - pans[0]) / HEAD_SPEED + len(pans) * abs(TILTS[1] - TILTS[0]) / HEAD_SPEED
+    last = TILTS[len(pans) % 2]  # the tilt the last stop ends on: tilts alternate
+    return seconds + abs(last - tilt_now) / HEAD_SPEED
 
 
 class WorldReferee:
@@ -156,13 +193,17 @@ class WorldReferee:
             return opening + slip_at * (end - opening), "handle_slip", jammed
         return end, None if jammed is None else "drawer_jammed", jammed
 
-    def _phantom(self) -> list[Detection]:
+    def _phantom(self, stops: tuple[float, ...] | None = None) -> list[Detection]:
         """At the false-positive rate, a detection of nothing: a random category somewhere in
-        view on the floor (none when that place is outside the room)."""
+        view on the floor (of a sweep of ``stops``, in one of their frames; none when that place
+        is outside the room)."""
         if self.rng.random() >= self.fp:
             return []
         s = self.scenario.sensing
         angle = self.rng.uniform(0, 2 * math.pi)
+        if stops:  # the same draw, in a stop's frame: which stop, and where across its width
+            share = angle / (2 * math.pi) * len(stops)
+            angle = stops[min(int(share), len(stops) - 1)] + (share % 1.0 - 0.5) * math.radians(s.fov_h_deg)
         dist = self.rng.uniform(s.range_min, min(s.range_max, 2.0))
         x, y = self.robot[0] + dist * math.cos(angle), self.robot[1] + dist * math.sin(angle)
         cats = sorted({i.label for i in self.items.values()})  # what a detection could say

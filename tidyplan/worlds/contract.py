@@ -106,7 +106,10 @@ class Skills(Protocol):
 
     def put_down(self, spot: Point) -> Outcome: ...
 
-    def look(self) -> list[Detection]: ...
+    def look(self, stops: tuple[float, ...] | None = None) -> list[Detection]:
+        """A head sweep from where the robot stands: all around, or the pan ``stops`` only
+        (headings in the room's frame, each frame at both tilts)."""
+        ...
 
     def glance(self) -> list[Frame]:
         """The frames the camera took on the way since the last glance, and one from here as the

@@ -48,6 +48,8 @@ from tidyplan.worlds.base import (
     Rates,
     TrueItem,
     WorldReferee,
+    sweep_pans,
+    sweep_seconds,
 )
 
 Point = tuple[float, float]
@@ -82,12 +84,20 @@ class SymbolicWorld(WorldReferee):
         self.jammed: dict[str, float] = {}  # where a jammed drawer is stuck
 
     # ------------------------------------------------------------------ sensing
-    def look(self) -> list[Detection]:
-        """Items in range and line of sight, each missed at the false-negative rate; a phantom at
-        the false-positive rate (a random category, somewhere in view on the floor)."""
-        self._spend(LOOK_S)
+    def look(self, stops: tuple[float, ...] | None = None) -> list[Detection]:
+        """Items in range and line of sight (of a sweep of ``stops``, headings in the room's
+        frame: in one of their frames' width), each missed at the false-negative rate; a phantom
+        at the false-positive rate (a random category, somewhere in view on the floor). A whole
+        sweep takes LOOK_S, the pybullet world's mean; one of some stops what the head's motions
+        take (``sweep_seconds``: the base here has no heading of its own, the head looks the
+        way the robot last drove or worked)."""
         s = self.scenario.sensing
+        if stops is None:
+            self._spend(LOOK_S)
+        else:
+            self._spend(sweep_seconds(sweep_pans(self.heading, stops)))
         cam = (self.robot[0], self.robot[1], s.camera_height)
+        half = math.radians(s.fov_h_deg) / 2
         out = []
         for it in sorted(self._placed(), key=lambda t: t.name):
             occ = [b for b in self._furniture if b.name != it.on] + [
@@ -95,9 +105,17 @@ class SymbolicWorld(WorldReferee):
             ]
             z = self._base_z(it) + it.sz / 2
             miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
-            if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max) and not miss:
+            bearing = math.atan2(it.y - self.robot[1], it.x - self.robot[0])
+            framed = stops is None or any(
+                abs((bearing - h + math.pi) % math.tau - math.pi) <= half for h in stops
+            )
+            if (
+                framed
+                and visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max)
+                and not miss
+            ):
                 out.append(it.seen(it.x, it.y))
-        return out + self._phantom()
+        return out + self._phantom(stops)
 
     def _frame(self) -> Frame:
         """Items in the frame's field, range and line of sight; each missed at the false-negative

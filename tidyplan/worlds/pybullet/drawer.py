@@ -116,12 +116,12 @@ class Drawers:
         pose, err, shift = self._whole_body_reach(grip, level, grip[:2], turns=(0.0,))
         seconds, metres = seconds + abs(shift) / careful, metres + abs(shift)
         if err > REACHED:
-            seconds += self.hsr.set_joints(STOW)
+            seconds += self._arm(STOW)
             return self._after(deposit, start, seconds, metres, "handle_unreached")
         before = (grip[0] - into[0] * BEFORE_HANDLE, grip[1] - into[1] * BEFORE_HANDLE, grip[2])
         pre, err_pre = self.hsr.reach(before, level, strict=True, turns=(0.0,))
         pre = pre if err_pre <= REACHED else pose
-        seconds += self.hsr.set_joints(pre) + self.hsr.set_joints(pose)
+        seconds += self._arm(pre) + self.hsr.set_joints(pose)
         seconds += self.hsr.set_gripper(HANDLE[2] / 2)  # the fingers close on the 3 cm grip
         hauled, ok = self._haul(drawer, to)
         seconds, metres = seconds + hauled / PULL_SPEED, metres + hauled

@@ -17,7 +17,7 @@ from sim.robot import CARRY, GRIPPER_OPEN, HAND_DOWN, RAISED, REACHED, STOW, TUR
 from sim.room import holder, inside
 from sim.scenario.model import ORIENTATION
 from tidyplan.worlds.base import TAKE_TOLERANCE, Outcome
-from tidyplan.worlds.pybullet.look import RECOGNISE_S
+from tidyplan.worlds.pybullet.look import DRIVING_HEAD, RECOGNISE_S
 from tidyplan.worlds.pybullet.put import PutIn, Spots, Unreached, fits, held_as, stood_up
 
 Point = tuple[float, float]
@@ -71,9 +71,9 @@ class Hand(PutIn):
             above, err_above = self.hsr.reach(before)
             at, err = self.hsr.reach(grip)
             if max(err, err_above) > REACHED:
-                seconds += self.hsr.set_joints(STOW)
+                seconds += self._arm(STOW)
                 return self._fail("out_of_reach", seconds)
-        seconds += self._shifted(shift) + self.hsr.set_joints(above) + self.hsr.set_joints(at)
+        seconds += self._shifted(shift) + self._arm(above) + self.hsr.set_joints(at)
         seconds += self.hsr.set_gripper(min(GRIPPER_OPEN, item.sx / 2))
         self._attach(item.name)
         # to put it down as it stands, or stood on its end where it lies too long for a deposit
@@ -228,7 +228,7 @@ class Hand(PutIn):
             self._place_base(start)
             return self._fail("out_of_reach", seconds + 1.0)
         pose, shift = found
-        seconds += self._shifted(shift) + self.hsr.set_joints(pose)
+        seconds += self._shifted(shift) + self._arm(pose)
         self._carry_along()
         if self.rng.random() >= fault_rate:
             seconds += 2.0 + self._carry()  # tried to open, and back
@@ -243,6 +243,14 @@ class Hand(PutIn):
         item.state = "placed"
         self._last_released = name
         return self._spend(seconds)
+
+    def _arm(self, joints: dict[str, float]) -> float:
+        """The arm's first motion of a grasp, a put or a pull: ``joints``, and the head back in its
+        driving posture and the torso where the arm wants it, all at once (a close look before
+        left the head on its place and the torso up); the seconds the slowest joint takes."""
+        if "arm_lift_joint" in joints:
+            self._lift_after_look = None
+        return self.hsr.set_joints({**DRIVING_HEAD, **joints})
 
     def _attach(self, name: str) -> None:
         body = self.bodies[name]

@@ -12,6 +12,7 @@ from sim.camera import sample_points
 from sim.motion import base_contacts, blocked
 from sim.robot import CAMERA_TILT, YAW_SPEED
 from tidyplan.belief.state import Detection, Frame
+from tidyplan.worlds.base import TILTS, sweep_pans
 
 Point = tuple[float, float]
 
@@ -21,9 +22,13 @@ AROUND, AROUND_LOOK = 0.3, 0.6  # m: a place this close is "around the robot"; l
 PAST_ARM = 0.6
 RECOGNISE_S = 1.0  # s: object recognition on one camera frame (the symbolic world's locate)
 PANS = (1.75, 0.80, -0.15, -1.10, -2.05, -3.00, -3.84)  # head pan stops of a sweep: 58 deg frames overlap
-# two tilts per stop: 7 deg above to 60 deg below the horizon, the floor from 0.6 m out and table
-# tops across the room (one 45 deg frame cannot hold both)
-TILTS = (-0.65, -0.15)
+# two tilts per stop (TILTS): 7 deg above to 60 deg below the horizon, the floor from 0.6 m out and
+# table tops across the room (one 45 deg frame cannot hold both)
+# the head and camera as the robot drives: the posture frames on the way are taken in (the belief's
+# frame model, sim.visibility.in_frame, assumes it) and the one a sweep starts from
+DRIVING_HEAD = {"head_pan_joint": 0.0, "head_tilt_joint": CAMERA_TILT}
+AIM_MARGIN_S = 0.2  # s before the end of a drive the head is to be aimed at what the robot will work on
+TORSO_UP = 0.69  # m of arm lift: the torso at its top, the lens at 1.35 m, for a place too close below it
 
 
 class HeadCamera:
@@ -32,14 +37,18 @@ class HeadCamera:
     ``fn``, ``_pan_forward`` (which way the next sweep goes), and its motions ``_place_base``,
     ``_ignored`` and ``_spend``."""
 
-    def look(self) -> list[Detection]:
-        """A head sweep: the camera pans across the head's range, two tilts a stop; what any frame sees
-        is detected, each item missed at the false-negative rate; a phantom at the
-        false-positive rate (a random category somewhere in view on the floor)."""
-        pans = PANS if self._pan_forward else PANS[::-1]
-        self._pan_forward = not self._pan_forward
+    def look(self, stops: tuple[float, ...] | None = None) -> list[Detection]:
+        """A head sweep: the camera pans across the head's range (or to the ``stops`` only,
+        headings in the room's frame), two tilts a stop; what any frame sees is detected, each
+        item missed at the false-negative rate; a phantom at the false-positive rate (a random
+        category somewhere in view on the floor)."""
+        if stops is None:
+            pans = list(PANS if self._pan_forward else PANS[::-1])
+            self._pan_forward = not self._pan_forward
+        else:
+            pans = sweep_pans(self.hsr.base()[2], stops, self.hsr.q("head_pan_joint"))
         tilts = TILTS
-        seconds = self.hsr.set_head(pans[0], tilts[0])
+        seconds = self._lower_torso()
         targets = self._targets()
         seen: set[str] = set()
         for pan in pans:  # a frame at both tilts at each stop, in turn, so the head never swings back
@@ -48,14 +57,15 @@ class HeadCamera:
                 eye, forward, up = self.hsr.camera()
                 seen |= self.camera.seen(self.client, eye, forward, up, targets, self.hsr.head_parts())
             tilts = tilts[::-1]
-        self.hsr.set_head(pans[-1], CAMERA_TILT)
+        if pans:
+            seconds += self.hsr.set_head(pans[-1], CAMERA_TILT)
         self._spend(seconds)
         out = []
         for it in sorted(self._placed(), key=lambda t: t.name):
             miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
             if it.name in seen and not miss:
                 out.append(self._seen(it))
-        return out + self._phantom()
+        return out + self._phantom(stops)
 
     def _frame(self) -> Frame:
         """One camera frame as the head looks now: what it sees, each item missed at the
@@ -67,7 +77,8 @@ class HeadCamera:
             miss = self.frame_rng.random() < self.fn
             if it.name in seen and not miss:
                 out.append(self._seen(it))
-        return Frame((eye[0], eye[1]), math.atan2(forward[1], forward[0]), out)
+        down = math.degrees(-math.asin(max(-1.0, min(1.0, forward[2]))))
+        return Frame((eye[0], eye[1]), math.atan2(forward[1], forward[0]), out, down)
 
     def _head_along(self, heading: float, seconds: float) -> None:
         """Turn the head toward ``heading`` (the room's frame) at the driving tilt, as far as its
@@ -77,20 +88,85 @@ class HeadCamera:
         pan = (heading - yaw + math.pi) % (2 * math.pi) - math.pi
         if pan > PANS[0]:  # the head pans 1.75 rad left, 3.84 right: the long way round
             pan -= 2 * math.pi
-        pan = min(max(pan, PANS[-1]), PANS[0])
+        self._head_toward(min(max(pan, PANS[-1]), PANS[0]), CAMERA_TILT, seconds)
+
+    def _head_toward(self, pan: float, tilt: float, seconds: float) -> None:
+        """Each head joint toward its target as far as its speed allows in ``seconds``."""
         moved = {}
-        for name, want in (("head_pan_joint", pan), ("head_tilt_joint", CAMERA_TILT)):
+        for name, want in (("head_pan_joint", pan), ("head_tilt_joint", tilt)):
             q, most = self.hsr.q(name), self.hsr.joints[name].speed * seconds
             moved[name] = q + min(max(want - q, -most), most)
         self.hsr.set_joints(moved)
+
+    def _aim(self, at: Point) -> tuple[float, float]:
+        """(pan, tilt) that point the camera at ``at`` (on what lies there) from the base as it
+        stands: the close look's."""
+        eye, _, _ = self.hsr.camera()
+        _, _, yaw = self.hsr.base()
+        pan = (math.atan2(at[1] - eye[1], at[0] - eye[0]) - yaw + math.pi) % (2 * math.pi) - math.pi
+        tilt = -math.atan2(eye[2] - self._surface_z(at) - 0.05, max(math.dist(eye[:2], at), 0.1))
+        return min(max(pan, PANS[-1]), PANS[0]), max(tilt, -1.57)
+
+    def _head_on_the_way(self, heading: float, face: Point | None, left_s: float, seconds: float) -> None:
+        """The head while the base drives ``seconds`` more along ``heading``: along the way, and
+        in the drive's last moments (``left_s`` to go) at ``face``, what the robot will work on
+        there, so that the close look's head motion is done on the way."""
+        if face is not None:
+            pan, tilt = self._aim(face)
+            need = max(abs(pan - self.hsr.q("head_pan_joint")), abs(tilt - self.hsr.q("head_tilt_joint")))
+            if left_s - seconds <= need / self.hsr.joints["head_tilt_joint"].speed + AIM_MARGIN_S:
+                self._head_toward(pan, tilt, seconds)
+                return
+        self._head_along(heading, seconds)
+
+    def _torso_needed(self, face: Point | None, end: Point, yaw: float) -> bool:
+        """Will the close look at ``face`` from ``end`` (the base turned to ``yaw``) need the torso
+        up, the place nearer the lens than its range? Only for what the robot will take there:
+        a put at a deposit moves the arm itself."""
+        if face is None or any(math.dist(face, (d.x, d.y)) < 0.05 for d in self.scenario.deposits):
+            return False
+        x, y, yaw0 = self.hsr.base()
+        self.hsr.set_base(end[0], end[1], yaw)
+        close = self._too_close(face, self._surface_z(face))
+        self.hsr.set_base(x, y, yaw0)
+        return close
+
+    def _torso_rising(self, seconds: float) -> None:
+        """The torso up toward TORSO_UP as far as the arm lift's speed allows in ``seconds``,
+        for the close look the drive ends with (the lift a drive lowers it to again, kept)."""
+        if self._lift_after_look is None:
+            self._lift_after_look = self.hsr.q("arm_lift_joint")
+        q = self.hsr.q("arm_lift_joint")
+        self.hsr.set_joints(
+            {"arm_lift_joint": min(TORSO_UP, q + self.hsr.joints["arm_lift_joint"].speed * seconds)}
+        )
+
+    def _lower_torso(self) -> float:
+        """The torso a close look raised, back down where it was: the seconds it takes. A close
+        look leaves it up (the grasp that follows starts from there); what comes next that needs
+        the lens at its usual height lowers it (a drive does while it drives)."""
+        if self._lift_after_look is None:
+            return 0.0
+        lift, self._lift_after_look = self._lift_after_look, None
+        return self.hsr.set_joints({"arm_lift_joint": lift})
+
+    def glance(self):
+        """``WorldReferee.glance``, but no frame from here while a close look has the torso up
+        (the belief's frames are from the lens at its usual height); the head as it looks (a close
+        look leaves it on its place: the frame says its tilt)."""
+        if self._lift_after_look is None:
+            return super().glance()
+        frames, self._frames = self._frames, []
+        return frames
 
     def locate(self, near: Point, radius: float, category: str | None = None) -> Detection | None:
         """Close-range look for the item of ``category`` nearest ``near`` within ``radius``: the
         robot faces the place and tilts the head to it. Where the place is too close for the
         camera (under 0.8 m from the lens: an object on a table right in front), the torso rises
-        to the top (the lens to 1.35 m); where that is not enough, the base steps back (if the
-        way is free) until the place is in range, looks, and returns. Missed at the
-        false-negative rate."""
+        to the top first (the lens to 1.35 m); where that is not enough, the base steps back (if
+        the way is free) until the place is in range, looks, and returns. The head stays on the
+        place and the torso up for what comes next (the grasp moves them with the arm). Missed
+        at the false-negative rate."""
         candidates = {
             o.name: (self.bodies[o.name], sample_points(self.client, self.bodies[o.name]))
             for o in self._placed()
@@ -100,16 +176,23 @@ class HeadCamera:
             return self._locate_around(near, candidates)
         surface = self._surface_z(near)
         seconds = self.hsr.turn_to(*near)  # face it: the head pans too little behind the robot
-        seen, spent = self._look_at(near, surface, candidates)
-        seconds += spent
-        if self.holding is not None and not self._seen_near(seen, near):
+        seen: set[str] = set()
+        if not self._too_close(near, surface):  # a look from too close sees nothing: the torso first
+            seen, spent = self._look_at(near, surface, candidates)
+            seconds += spent
+        if (
+            self.holding is not None
+            and not self._too_close(near, surface)
+            and not self._seen_near(seen, near)
+        ):
             # the arm in its carrying posture hides the floor just in front: look past it, the
             # base turned a little either way and the head panned back to the place
             more, spent = self._look_past_the_arm(near, surface, candidates)
             seen, seconds = seen | more, seconds + spent
-        lift = self.hsr.q("arm_lift_joint")
         if not seen and self._too_close(near, surface):
-            seconds += self.hsr.set_joints({"arm_lift_joint": 0.69})
+            if self._lift_after_look is None:
+                self._lift_after_look = self.hsr.q("arm_lift_joint")
+            seconds += self.hsr.set_joints({"arm_lift_joint": TORSO_UP})
             seen, spent = self._look_at(near, surface, candidates)
             seconds += spent
             if not seen and self._too_close(near, surface):
@@ -122,8 +205,8 @@ class HeadCamera:
                     seen, spent = self._look_at(near, surface, candidates)
                     seconds += spent
                 self._place_base(start)
-            seconds += self.hsr.set_joints({"arm_lift_joint": lift})
-        seconds += self.hsr.set_head(0.0, CAMERA_TILT)
+        # the head stays on the place and the torso up: the grasp that follows moves them back with
+        # the arm, a drive on the way, a glance or a sweep first (``glance``, ``_lower_torso``)
         return self._found(seen, near, seconds)
 
     def _locate_around(self, near: Point, candidates) -> Detection | None:
@@ -140,7 +223,6 @@ class HeadCamera:
             seconds += spent
             if seen:
                 break
-        seconds += self.hsr.set_head(0.0, CAMERA_TILT)
         return self._found(seen, near, seconds)
 
     def _found(self, seen: set[str], near: Point, seconds: float) -> Detection | None:

@@ -36,7 +36,7 @@ from tidyplan.belief.state import Detection
 from tidyplan.worlds.base import FRAME_EVERY, Odometer, Outcome, Rates, TrueItem, WorldReferee
 from tidyplan.worlds.pybullet.drawer import Drawers
 from tidyplan.worlds.pybullet.hand import SETTLE_S, Hand
-from tidyplan.worlds.pybullet.look import HeadCamera
+from tidyplan.worlds.pybullet.look import AIM_MARGIN_S, TORSO_UP, HeadCamera
 from tidyplan.worlds.pybullet.put import HeldAs
 
 Point = tuple[float, float]
@@ -88,6 +88,7 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
         self._stood_down_as: HeldAs | None = None  # an orientation item stood on its down end
         self.knocked: list[str] = []  # tidied objects a release or a fall knocked out of their deposit
         self._pan_forward = True  # sweeps alternate direction: no return swing
+        self._lift_after_look: float | None = None  # the arm lift a close look raised the torso from
         x, y, _ = self.hsr.base()
         self.robot: Point = (x, y)
         self.odometer = Odometer(track=[self.robot])
@@ -127,13 +128,19 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
             turn = (want - yaw0 + math.pi) % (2 * math.pi) - math.pi
         block_at, drop_at = self._faults_on_path(n)
         ignore = self._ignored()
+        # a torso a close look raised comes down while the base drives (joints and base together);
+        # where the close look at the end will need it up, it rises in the drive's last seconds
+        rise = n > 0 and self._torso_needed(face, path[-1], yaw0 + turn)
+        lowering = 0.0 if rise else self._lower_torso()
+        rise_s = TORSO_UP / self.hsr.joints["arm_lift_joint"].speed + AIM_MARGIN_S
+        left_s = sum(math.dist(path[k - 1], path[k]) for k in range(1, n)) / speed
         metres = seconds = 0.0
         before = base_contacts(self.hsr, ignore)
         passed = [self.robot]  # poses whose check passed, latest last
         framed = 0.0  # m driven since the last frame kept
         for k in range(1, n):
             if k == block_at:
-                return Outcome(False, "path_blocked", seconds, metres)
+                return Outcome(False, "path_blocked", seconds + self._wait(lowering - seconds), metres)
             a, b = path[k - 1], path[k]
             steps = max(1, math.ceil(math.dist(a, b) / STEP))
             for s in range(1, steps + 1):
@@ -148,28 +155,48 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
                     d = math.dist(self.robot, back)
                     self._place_base(back)  # stop short, and back off where the way was clear
                     self._arrive(back, d, d / speed)
-                    return Outcome(False, "path_blocked", seconds + d / speed, metres + d, touched)
+                    seconds += d / speed
+                    return Outcome(
+                        False, "path_blocked", seconds + self._wait(lowering - seconds), metres + d, touched
+                    )
                 d = math.dist(self.robot, q)
                 metres, seconds = metres + d, seconds + d / speed
-                self._head_along(math.atan2(b[1] - a[1], b[0] - a[0]), d / speed)
+                self._head_on_the_way(math.atan2(b[1] - a[1], b[0] - a[0]), face, left_s, d / speed)
+                if rise and left_s - d / speed <= rise_s:
+                    self._torso_rising(d / speed)
+                left_s -= d / speed
                 self._arrive(q, d, d / speed)
                 passed.append(q)
                 framed += d
-                if framed >= FRAME_EVERY and (k, s) != (n - 1, steps):  # the last is the glance's own
+                last = (k, s) == (n - 1, steps)  # the last frame is the glance's own
+                # the belief's frames are from the lens at its usual height: none with the torso up
+                if framed >= FRAME_EVERY and not last and self._lift_after_look is None:
                     self._frames.append(self._frame())
                     framed = 0.0
             if drop_at is not None and k >= drop_at and self.holding is not None and self._free():
                 self._slip()
             if monitor is not None and not monitor.poll():
-                return Outcome(False, "interrupted", seconds, metres)
-        rest = abs(turn) / YAW_SPEED - seconds  # the turn's part the drive was too short for
+                return Outcome(False, "interrupted", seconds + self._wait(lowering - seconds), metres)
+        # the turn's part the drive was too short for, and the torso's
+        rest = max(abs(turn) / YAW_SPEED, lowering) - seconds
         if rest > 0:
             self._place_base(self.robot, yaw0 + turn)
+            if face is not None:
+                self._head_toward(*self._aim(face), rest)
+            if rise:
+                self._torso_rising(rest)
             self._arrive(self.robot, 0.0, rest)
             seconds += rest
         return Outcome(True, None, seconds, metres)
 
     # ------------------------------------------------------------------ helpers
+    def _wait(self, seconds: float) -> float:
+        """The robot stands ``seconds`` (if more than 0) while a joint finishes its motion."""
+        seconds = max(seconds, 0.0)
+        if seconds:
+            self._arrive(self.robot, 0.0, seconds)
+        return seconds
+
     def _touched(self, bodies: list[int]) -> Point:
         """Where on the base's edge it touches ``bodies``: the bumper's side (the mean of the
         contact points), for a close look there."""
