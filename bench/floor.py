@@ -40,7 +40,7 @@ from tidyplan.loop.deadline import improve
 from tidyplan.loop.scenarios import load_scenario
 from tidyplan.trace.score import TIME_LIMIT_S
 
-GRASP_S, PLACE_S, PULL_S = 3.3, 9.2, 12.0  # s: medians of the pybullet units' do, see above
+GRASP_S, PLACE_S, PULL_S = 3.1, 9.2, 12.0  # s: medians of the pybullet units' do, see above
 ALL_AWAY = DRAWERS_BONUS = 50
 
 

@@ -30,7 +30,7 @@ from tidyplan.belief.state import Belief
 # s: what the pybullet HSR takes on average (its Task 1 sweep, docs/results.md): a take with its
 # close look and base adjustment, a put into a deposit, a pull of a drawer's handle; and what a
 # drive takes beyond its length over the base's speed (the turn it was too short for, a stop)
-TAKE_S, PUT_S, PULL_S, STOP_S = 13.4, 10.1, 13.3, 0.7
+TAKE_S, PUT_S, PULL_S, STOP_S = 6.7, 10.3, 13.1, 0.8
 POINTS, ORIENTATION_POINTS, DRAWERS_POINTS = 20.0, 10.0, 50.0  # tidyplan.trace.score's rulebook
 
 
