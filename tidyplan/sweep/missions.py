@@ -125,7 +125,11 @@ def _tail(output) -> str:
 
 
 def run_one(job: dict, limit: float, target: str = MISSION) -> dict:
-    """One mission, start to end, blocking (what a Ray task runs)."""
+    """One mission, start to end, blocking (what a Ray task runs). A task Ray runs again (its
+    worker or node died) finds its first attempt's trace at the job's path, and a trace is never
+    overwritten: the attempt writes a fresh one beside it, and its row names that one."""
+    first = job["trace"]
+    job = {**job, "trace": _fresh_attempt_trace(job)}
     process, result, output = start(job, target)
     try:
         process.wait(timeout=limit)
@@ -135,7 +139,20 @@ def run_one(job: dict, limit: float, target: str = MISSION) -> dict:
     except BaseException:
         stop(process)
         raise
-    return finish(process, result, output, timed_out)
+    outcome = finish(process, result, output, timed_out)
+    if job["trace"] != first and "trace" not in outcome:  # a crashed retry: its own trace, not the first's
+        outcome["trace"] = job["trace"] if Path(job["trace"]).exists() else None
+    return outcome
+
+
+def _fresh_attempt_trace(job: dict) -> str:
+    from tidyplan.sweep.config import MissionConfig
+    from tidyplan.sweep.grid import fresh_trace
+
+    trace = Path(job["trace"])
+    if not (trace.exists() or trace.with_suffix(".pddl").exists()):
+        return job["trace"]
+    return str(fresh_trace(trace.parent.parent, MissionConfig.from_row(job["config"])))
 
 
 # ------------------------------------------------------------------ engines
