@@ -78,9 +78,9 @@ def cluster(tmp_path_factory):
         # the raylets, their workers and the missions under them inherit this environment
         mp.setenv("PYTHONPATH", os.pathsep.join(filter(None, [str(folder), os.environ.get("PYTHONPATH")])))
         mp.setenv("PYTHONUNBUFFERED", "1")
-        c = ray_cluster_utils.Cluster(
-            initialize_head=True, connect=False, head_node_args={"num_cpus": 0, "include_dashboard": False}
-        )
+        # Ray's session (sockets, logs) under the test's folder too, not /tmp/ray
+        head = {"num_cpus": 0, "include_dashboard": False, "temp_dir": str(tmp_path_factory.mktemp("ray"))}
+        c = ray_cluster_utils.Cluster(initialize_head=True, connect=False, head_node_args=head)
         try:
             for _ in range(3):
                 c.add_node(num_cpus=1)
