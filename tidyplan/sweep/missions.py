@@ -19,6 +19,7 @@ import ctypes
 import importlib
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -146,13 +147,14 @@ def run_one(job: dict, limit: float, target: str = MISSION) -> dict:
 
 
 def _fresh_attempt_trace(job: dict) -> str:
-    from tidyplan.sweep.config import MissionConfig
-    from tidyplan.sweep.grid import fresh_trace
-
-    trace = Path(job["trace"])
-    if not (trace.exists() or trace.with_suffix(".pddl").exists()):
-        return job["trace"]
-    return str(fresh_trace(trace.parent.parent, MissionConfig.from_row(job["config"])))
+    """The job's trace path, or the first free one beside it named as ``grid.fresh_trace`` names
+    them (``STEM-2.jsonl``, ``STEM-3.jsonl``, ...), if an attempt has written there."""
+    path = Path(job["trace"])
+    base, n = re.sub(r"-\d+$", "", path.stem), 1  # a stem ends "-s<seed>"; "-<n>" only on a fresh one
+    while path.exists() or path.with_suffix(".pddl").exists():
+        n += 1
+        path = path.with_name(f"{base}-{n}.jsonl")
+    return str(path)
 
 
 # ------------------------------------------------------------------ engines
