@@ -19,6 +19,7 @@ import ctypes
 import importlib
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -125,7 +126,11 @@ def _tail(output) -> str:
 
 
 def run_one(job: dict, limit: float, target: str = MISSION) -> dict:
-    """One mission, start to end, blocking (what a Ray task runs)."""
+    """One mission, start to end, blocking (what a Ray task runs). A task Ray runs again (its
+    worker or node died) finds its first attempt's trace at the job's path, and a trace is never
+    overwritten: the attempt writes a fresh one beside it, and its row names that one."""
+    first = job["trace"]
+    job = {**job, "trace": _fresh_attempt_trace(job)}
     process, result, output = start(job, target)
     try:
         process.wait(timeout=limit)
@@ -135,7 +140,21 @@ def run_one(job: dict, limit: float, target: str = MISSION) -> dict:
     except BaseException:
         stop(process)
         raise
-    return finish(process, result, output, timed_out)
+    outcome = finish(process, result, output, timed_out)
+    if job["trace"] != first and "trace" not in outcome:  # a crashed retry: its own trace, not the first's
+        outcome["trace"] = job["trace"] if Path(job["trace"]).exists() else None
+    return outcome
+
+
+def _fresh_attempt_trace(job: dict) -> str:
+    """The job's trace path, or the first free one beside it named as ``grid.fresh_trace`` names
+    them (``STEM-2.jsonl``, ``STEM-3.jsonl``, ...), if an attempt has written there."""
+    path = Path(job["trace"])
+    base, n = re.sub(r"-\d+$", "", path.stem), 1  # a stem ends "-s<seed>"; "-<n>" only on a fresh one
+    while path.exists() or path.with_suffix(".pddl").exists():
+        n += 1
+        path = path.with_name(f"{base}-{n}.jsonl")
+    return str(path)
 
 
 # ------------------------------------------------------------------ engines
