@@ -3,6 +3,8 @@ one only where the simulation proves it sound and it costs less."""
 
 from __future__ import annotations
 
+import pytest
+
 from tidyplan.pddl.compile import compile_task
 from tidyplan.pddl.reader import read_domain, read_problem
 from tidyplan.planning.planner import Step, plan
@@ -118,3 +120,22 @@ def test_the_planner_returns_plans_without_detours_and_keep_none_leaves_them(tmp
         direct = ROADS.get((one.args[0], two.args[1]))
         assert not (one.name == two.name == "drive" and direct is not None and direct < one.cost + two.cost)
     assert "shortcut" not in plan(domain, problem, "lama-first", reduce_moves=False, keep=None).phases
+
+
+def test_where_no_road_joins_the_ends_of_two_steps_nothing_is_simulated(tmp_path, monkeypatch):
+    """Roads never change: where no road leads from the first step's start to the second's end,
+    no two steps can merge, and the plan comes back as it was without a state computed."""
+    from tidyplan.pddl.simulate import Simulator
+
+    task = _task(tmp_path, {("a", "b"): 2, ("b", "c"): 2, ("c", "d"): 2})  # no shortcut road
+    steps = _steps(task, "(drive a b)", "(drive b c)", "(drive c d)")
+
+    def apply(*_):
+        raise AssertionError("simulated")
+
+    monkeypatch.setattr(Simulator, "apply", apply)
+    assert shortcut(steps, task) == steps
+    # with the road a-c the first two could merge: then it simulates (and would merge them)
+    task = _task(tmp_path, {("a", "b"): 2, ("b", "c"): 2, ("c", "d"): 2, ("a", "c"): 3})
+    with pytest.raises(AssertionError, match="simulated"):
+        shortcut(_steps(task, "(drive a b)", "(drive b c)", "(drive c d)"), task)

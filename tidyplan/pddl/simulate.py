@@ -36,6 +36,7 @@ class Simulator:
             for t in ancestors(obj.types, parents):
                 self._objects.setdefault(t, []).append(obj.name)
         self._closure: Closure | None = None
+        self._changed: set[str] | None = None  # predicates some action or rule changes (statically_possible)
         if domain.derived:
             objects = self._objects
             self._closure = Closure(
@@ -93,6 +94,23 @@ class Simulator:
     def holds(self, formula: m.Formula, state: State) -> bool:
         return _holds(formula, self.close(state), {}, self._objects)
 
+    def statically_possible(self, initial: State, name: str, args: Sequence[str]) -> bool:
+        """False where a precondition atom (of a conjunctive precondition) whose predicate no
+        action, assumption or rule changes is false in the ``initial`` state: such facts hold
+        or fail for a whole plan, so the step is applicable nowhere in it."""
+        if self._changed is None:
+            self._changed = set(self.domain.derived_predicates)
+            for a in self.domain.actions:
+                _changed_by(a.effect, self._changed)
+        action = self._action(name)
+        binding = self._bind(action, args)
+        pre = action.precondition
+        for f in pre.parts if isinstance(pre, m.And) else (pre,):
+            if isinstance(f, m.Atom) and f.predicate != "=" and f.predicate not in self._changed:
+                if (f.predicate, *_ground(f.args, binding)) not in initial:
+                    return False
+        return True
+
     def _action(self, name: str) -> m.Action:
         action = self.domain.action(name)
         if action is None:
@@ -104,6 +122,17 @@ class Simulator:
         if len(args) != len(action.parameters):
             raise ValueError(f"{action.name} takes {len(action.parameters)} arguments, got {len(args)}")
         return {p.name: a for p, a in zip(action.parameters, args, strict=True)}
+
+
+def _changed_by(e, out: set[str]) -> None:
+    """The predicates effect ``e`` adds or deletes, into ``out``."""
+    if isinstance(e, m.Literal):
+        out.add(e.atom.predicate)
+    elif isinstance(e, m.AndEffect):
+        for p in e.parts:
+            _changed_by(p, out)
+    elif isinstance(e, (m.When, m.ForallEffect)):
+        _changed_by(e.effect, out)
 
 
 def ancestors(types: Sequence[str], parents: Mapping[str, Sequence[str]]) -> set[str]:

@@ -34,6 +34,12 @@ def shortcut(steps, task: CompiledTask, keep: Callable[[str], bool] = lambda obj
         compiled.setdefault(info.name, []).append(name)
     sim = Simulator(task.source_domain, task.source_problem)
     state = sim.initial_state(task.source_problem)
+    # Where no two steps in a row could merge even by the facts that never change (a visit-all
+    # plan's moves, whose cells are not adjacent), nothing is simulated: on a 1,600-step plan
+    # over 8,000 facts the simulation was 0.97 s of 7.9 s (docs/planner.md)
+    pairs = ((a, _merged(a, b, compiled, keep)) for a, b in zip(steps, steps[1:], strict=False))
+    if not any(m is not None and sim.statically_possible(state, a.name, m[0]) for a, m in pairs):
+        return list(steps)
     out: list = []
     before: list = []  # the state each step of ``out`` is applied in
     for step in steps:
