@@ -65,6 +65,7 @@ def read_domain(define: Node, text: str, path: str, skip: frozenset[int] = froze
         actions=tuple(actions),
         path=path,
         pos=base.pos,
+        derived=base.derived,  # the rules are declarations: read with them
     )
 
 
