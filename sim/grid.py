@@ -88,9 +88,10 @@ class OccupancyGrid:
         self.mask = self._free_mask()
         self._graph_built: nx.Graph | None = None  # built on first use: ``graph``
         # one Dijkstra per source cell, remembered: lengths and the cell before each on its path
-        self._trees: dict[Cell, tuple[dict[Cell, float], dict[Cell, Cell]]] = {}
+        self._trees: dict[Cell, np.ndarray] = {}  # by source cell: each free cell's predecessor
         self._lengths: dict[Cell, np.ndarray] = {}  # a source cell's lengths to every free cell
         self._index: np.ndarray | None = None
+        self._ij: np.ndarray | None = None  # the free cells in _node order (_free_ij)
         self._csr: csr_matrix | None = None
         self._label: np.ndarray | None = None  # every cell's component (_labels)
 
@@ -153,14 +154,16 @@ class OccupancyGrid:
         ca, cb = self.cell(*a), self.cell(*b)
         if not (self._free_cell(ca) and self._free_cell(cb)):
             return None
-        lengths, before = self._tree(ca)
-        if cb not in lengths:
+        before, node = self._tree(ca), self._node
+        ka, kb = int(node[ca]), int(node[cb])
+        if kb != ka and before[kb] < 0:
             return None
-        cells = [cb]
-        while cells[-1] != ca:
-            cells.append(before[cells[-1]])
-        cells.reverse()
-        return [self.xy(*c) for c in cells]
+        ks = [kb]
+        while ks[-1] != ka:
+            ks.append(int(before[ks[-1]]))
+        ks.reverse()
+        ij = self._free_ij
+        return [self.xy(int(ij[k, 0]), int(ij[k, 1])) for k in ks]
 
     def connected(self, a: Point, b: Point) -> bool:
         """Whether a path joins a and b: the same component of the free cells."""
@@ -337,18 +340,33 @@ class OccupancyGrid:
             )
         return self._csr
 
-    def _tree(self, c: Cell) -> tuple[dict[Cell, float], dict[Cell, Cell]]:
-        """Dijkstra from cell c: the length to every cell it reaches, and the cell before each on
-        the path ``nx.dijkstra_path`` gives (its first predecessor: the same ties broken the same
-        way). Remembered, since the grid never changes and a mission asks from the same
-        waypoints again and again; one tree serves every path from c (at 96 objects the map's
-        facts asked for thousands of pairs, one Dijkstra each, most of a turn)."""
+    def _tree(self, c: Cell) -> np.ndarray:
+        """Dijkstra from cell c: for each free cell (by ``_node`` index) the index of the cell
+        before it on the path ``nx.dijkstra_path`` gives (its first predecessor: the same ties
+        broken the same way), -1 where c does not reach (and at c). Remembered, since the grid
+        never changes and a mission asks from the same waypoints again and again; one tree serves
+        every path from c (at 96 objects the map's facts asked for thousands of pairs, one
+        Dijkstra each, most of a turn). An int32 array, not networkx's dicts: a two-room floor's
+        tree was about 3 MB as dicts, and the static map gathers a few hundred in a mission."""
         if c not in self._trees:
             if len(self._trees) >= 512:  # the robot's own pose is a new source every step
                 self._trees.clear()
-            pred, lengths = nx.dijkstra_predecessor_and_distance(self.graph, c, weight="weight")
-            self._trees[c] = (lengths, {u: vs[0] for u, vs in pred.items() if vs})
+            pred, _lengths = nx.dijkstra_predecessor_and_distance(self.graph, c, weight="weight")
+            node = self._node
+            before = np.full(len(self._free_ij), -1, dtype=np.int32)
+            reached = [(u, vs[0]) for u, vs in pred.items() if vs]
+            if reached:
+                us, vs = zip(*reached, strict=True)
+                before[node[tuple(np.array(us).T)]] = node[tuple(np.array(vs).T)]
+            self._trees[c] = before
         return self._trees[c]
+
+    @property
+    def _free_ij(self) -> np.ndarray:
+        """The free cells' (i, j), row k the cell of ``_node`` index k."""
+        if self._ij is None:
+            self._ij = np.argwhere(self.mask)
+        return self._ij
 
     # ------------------------------------------------------------------ construction
     def _free_cell(self, c: Cell) -> bool:
