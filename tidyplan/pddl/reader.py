@@ -19,7 +19,7 @@ import lark
 from tidyplan.errors import Diagnostic, PddlError
 from tidyplan.pddl import model as m
 from tidyplan.pddl.check import check_domain, check_problem
-from tidyplan.pddl.syntax import describe, never_closed, open_parentheses
+from tidyplan.pddl.syntax import MAX_DEPTH, describe, never_closed, scan_parentheses
 from tidyplan.pddl.transform import Build, paren_before
 
 GRAMMAR = Path(__file__).with_name("grammar.lark")
@@ -53,25 +53,32 @@ def read_text(path: str | os.PathLike) -> str:
         raise PddlError(Diagnostic(p, None, None, f"cannot read: {e.strerror}")) from None
     if len(data) > _MAX_BYTES:
         raise PddlError(Diagnostic(p, None, None, "file too large to be PDDL"))
-    if b"\0" in data:
-        raise PddlError(Diagnostic(p, None, None, "binary file, not PDDL text"))
+    if b"\0" in data:  # said where, as every PDDL message is: the first NUL byte's line and column
+        raise PddlError(Diagnostic(p, *_byte_place(data, data.index(b"\0")), "binary file, not PDDL text"))
     try:
         return data.decode("utf-8-sig")  # a byte-order mark is not part of the text
     except UnicodeDecodeError as e:
-        line = data[: e.start].count(b"\n") + 1
-        col = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
-        raise PddlError(Diagnostic(p, line, col, "not UTF-8 text (binary file?)")) from None
+        raise PddlError(Diagnostic(p, *_byte_place(data, e.start), "not UTF-8 text (binary file?)")) from None
+
+
+def _byte_place(data: bytes, at: int) -> tuple[int, int]:
+    """1-based line and column (in bytes: the text is not text yet) of offset `at`."""
+    return data[:at].count(b"\n") + 1, at - (data.rfind(b"\n", 0, at) + 1) + 1
 
 
 def parse(text: str, path: str = "<string>"):
     """Parse dialect text into a Domain or a Problem (unchecked)."""
-    balanced = not open_parentheses(text, path)
+    still_open, too_deep = scan_parentheses(text, path)
     try:
         result = _parser().parse(text)
     except lark.exceptions.UnexpectedInput as e:
-        if not balanced:
-            raise PddlError(never_closed(text, path, e)) from None
+        lost = never_closed(text, path, e) if still_open else None
+        if lost is not None:
+            raise PddlError(lost) from None
         raise PddlError(Diagnostic(path, e.line, e.column, describe(e, text, _parser().terminals))) from None
+    if too_deep is not None:  # the parse is flat, but what reads the model after it recurses per level
+        why = f"nested more than {MAX_DEPTH} levels deep; tidyplan reads formulas up to that depth"
+        raise PddlError(Diagnostic(path, *too_deep, why))
     kind = result[0]
     if kind == "domain":
         _, name, define, parts, actions, derived = result
