@@ -31,6 +31,7 @@ import re
 import signal
 import sys
 import tempfile
+import time
 import traceback
 from collections import Counter
 from dataclasses import dataclass, field
@@ -408,6 +409,7 @@ def run_case(seed: Seed, data: bytes, folder: Path, name: str, alarm: float | No
 
 
 # ------------------------------------------------------------------ the properties
+STOPPED = {130, 128 + signal.SIGTERM, 128 + signal.SIGHUP}  # main's statuses for a signal
 STATUSES = {"domain": {0, 2}, "problem": {0, 2}, "scenario": {0, 1, 2}, "trace": {0, 2}, "html": {0, 2}}
 PLACE = re.compile(r"(?P<path>.+?):(?P<line>\d+):(?P<col>\d+): ")
 
@@ -489,7 +491,7 @@ def main(argv: list[str] | None = None) -> int:
     seeds += [Seed("trace", trace), Seed("html", trace)]
     originals = {s: s.path.read_bytes() for s in seeds}
     rnd = random.Random(args.seed)
-    cases, statuses, found = Counter(), Counter(), Counter()
+    cases, statuses, found, seconds = Counter(), Counter(), Counter(), Counter()
     kept = 0
     share = {k: KIND_SHARE[k] for k in args.kinds.split(",")}
     by_kind = {k: [s for s in seeds if s.kind == k] for k in share}
@@ -499,7 +501,12 @@ def main(argv: list[str] | None = None) -> int:
         names, data = mutate(seed.kind, originals[seed], rnd)
         folder = work / f"c{n}"
         folder.mkdir()
+        began = time.perf_counter()
         o = run_case(seed, data, folder, f"c{n}{seed.path.suffix}", alarm=args.alarm)
+        seconds[seed.kind] += time.perf_counter() - began
+        if o.status in STOPPED:  # the command line turned our own Ctrl-C or SIGTERM into a status
+            print(f"stopped at case {n} ({o.err.strip()})", file=sys.stderr)
+            break
         cases[seed.kind] += 1
         statuses[seed.kind, "hang" if o.hung else "raised" if o.status is None else o.status] += 1
         wrong = faults(seed, o)
@@ -511,7 +518,7 @@ def main(argv: list[str] | None = None) -> int:
         _clean(seed, folder, n)
         if (n + 1) % 500 == 0:
             print(f"{n + 1} cases, {sum(found.values())} findings", file=sys.stderr, flush=True)
-    _table(cases, statuses, found, args, out, kept)
+    _table(cases, statuses, found, seconds, args, out, kept)
     return 1 if found else 0
 
 
@@ -533,11 +540,13 @@ def _clean(seed: Seed, folder: Path, n: int) -> None:
         (seed.path.parent / f"c{n}{seed.path.suffix}").unlink(missing_ok=True)
 
 
-def _table(cases: Counter, statuses: Counter, found: Counter, args, out: Path, kept: int) -> None:
+def _table(
+    cases: Counter, statuses: Counter, found: Counter, seconds: Counter, args, out: Path, kept: int
+) -> None:
     kinds = sorted(cases)
     codes = sorted({c for _, c in statuses}, key=str)
     print(f"\n{sum(cases.values())} cases, seed {args.seed}, alarm {args.alarm:g} s")
-    head = ["kind", "cases", *(f"exit {c}" for c in codes), "tracebacks", "hangs", "unlocated", "other"]
+    head = ["kind", "cases", *(f"exit {c}" for c in codes), "tracebacks", "hangs", "unlocated", "other", "s"]
     rows = []
     for k in kinds:
         other = sum(
@@ -545,9 +554,10 @@ def _table(cases: Counter, statuses: Counter, found: Counter, args, out: Path, k
         )
         rows.append(
             [k, cases[k], *(statuses[k, c] for c in codes)]
-            + [found[k, "traceback"], found[k, "hang"], found[k, "unlocated"], other]
+            + [found[k, "traceback"], found[k, "hang"], found[k, "unlocated"], other, round(seconds[k])]
         )
     rows.append(["all", *(sum(r[i] for r in rows) for i in range(1, len(head)))])
+    print("other: an exit status the command does not define, or a message said twice; s: seconds")
     widths = [max(len(str(x)) for x in col) for col in zip(head, *rows, strict=True)]
     for r in [head, *rows]:
         print("  ".join(str(x).rjust(w) for x, w in zip(r, widths, strict=True)))
