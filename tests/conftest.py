@@ -209,3 +209,18 @@ def expect_lines():
             )
 
     return check
+
+
+def pytest_configure(config):
+    """Hypothesis (tests/test_fuzz.py) keeps caches in ./.hypothesis from the moment its tests are
+    collected: here in a temporary folder of the run's own, removed at its end, never in the
+    checkout."""
+    try:
+        from hypothesis.configuration import set_hypothesis_home_dir
+    except ImportError:
+        return
+    import tempfile
+
+    home = tempfile.mkdtemp(prefix="tidyplan-hypothesis-")
+    set_hypothesis_home_dir(home)
+    config.add_cleanup(lambda: shutil.rmtree(home, ignore_errors=True))

@@ -75,6 +75,10 @@ def loads(text: str, path: str = "<string>") -> Scenario:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         raise ScenarioError([syntax_message(path, text, str(e))]) from None
+    except RecursionError:  # tomllib recurses once per [ or { of a value; no room nests so deep
+        raise ScenarioError([f"{path}: arrays or inline tables nested too deeply to read"]) from None
+    except ValueError:  # TOML, but a whole number of more digits than int() takes (4,300)
+        raise ScenarioError([f"{path}: a number of too many digits to read"]) from None
     return _Reader(path).scenario(doc)
 
 

@@ -11,13 +11,26 @@ import lark
 
 from tidyplan.errors import Diagnostic, PddlError
 
+# Levels of '(' a file may nest. The checker, the compiler and the translator recurse once or
+# more per level, and Python stops at 1,000 frames; the deepest IPC or shipped file nests 8.
+MAX_DEPTH = 100
+
 
 def open_parentheses(text: str, path: str, stop: int | None = None) -> list[tuple[int, int]]:
     """The '(' still open at offset `stop` (default: the end), outermost first.
 
     Raises at a ')' that closes nothing: that mistake is unambiguous.
     """
+    return scan_parentheses(text, path, stop)[0]
+
+
+def scan_parentheses(
+    text: str, path: str, stop: int | None = None
+) -> tuple[list[tuple[int, int]], tuple[int, int] | None]:
+    """`open_parentheses`, and where the nesting first goes deeper than MAX_DEPTH (or None),
+    found in the same pass over the text."""
     stack: list[tuple[int, int]] = []
+    too_deep = None
     line, col = 1, 0
     in_comment = False
     for ch in text if stop is None else text[:stop]:
@@ -30,11 +43,13 @@ def open_parentheses(text: str, path: str, stop: int | None = None) -> list[tupl
             in_comment = True
         elif ch == "(":
             stack.append((line, col))
+            if too_deep is None and len(stack) > MAX_DEPTH:
+                too_deep = (line, col)
         elif ch == ")":
             if not stack:
                 raise PddlError(Diagnostic(path, line, col, "unbalanced parenthesis: ')' closes nothing"))
             stack.pop()
-    return stack
+    return stack, too_deep
 
 
 def _at_end(e: lark.exceptions.UnexpectedInput) -> bool:
@@ -43,12 +58,14 @@ def _at_end(e: lark.exceptions.UnexpectedInput) -> bool:
     return isinstance(e, lark.exceptions.UnexpectedEOF) or getattr(token, "type", None) == "$END"
 
 
-def never_closed(text: str, path: str, e: lark.exceptions.UnexpectedInput) -> Diagnostic:
+def never_closed(text: str, path: str, e: lark.exceptions.UnexpectedInput) -> Diagnostic | None:
     """Locate the '(' a section lost its ')' from, when the parser stumbles over it.
 
     Counting alone cannot tell which '(' lacks its ')'. The parser stops at the
     first token that does not fit, typically the next section's keyword: the
     culprit is the innermost '(' still open before that token's own '('.
+    None when no '(' is open where the parser stopped (`x (define`, or a '('
+    after the whole define): the parser's own complaint is the first mistake.
     """
     at = getattr(e, "pos_in_stream", None)
     if _at_end(e) or at is None or at < 0:
@@ -57,6 +74,8 @@ def never_closed(text: str, path: str, e: lark.exceptions.UnexpectedInput) -> Di
         stack = open_parentheses(text, path, at)
         if text[:at].rstrip().endswith("(") and len(stack) > 1:
             stack = stack[:-1]
+    if not stack:
+        return None
     line, col = stack[-1]
     where = (
         "" if isinstance(e, lark.exceptions.UnexpectedEOF) else f" (reading stopped at {e.line}:{e.column})"

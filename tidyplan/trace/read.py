@@ -43,6 +43,35 @@ REQUIRED = {
     "assume": {"action": str},
 }
 
+POINT, NAMES, COUNTS = "point", "names", "counts"  # [x, y]; a list of strings; {name: number}
+WHAT |= {
+    POINT: "a point [x, y]",
+    NAMES: "a list of strings",
+    COUNTS: "an object of numbers",
+    dict: "an object",
+}
+# What the readers below take as is where it is present (a trace may lack it: older schemas,
+# killed runs): of another kind, the event is not read as one, as for REQUIRED.
+OPTIONAL = {
+    "start": {"robot": POINT, "expected": COUNTS, "time_limit_s": NUMBER, "generated_viewpoints": dict},
+    "action": {
+        "path": list,
+        "robot": POINT,
+        "seconds": NUMBER,
+        "metres": NUMBER,
+        "recoveries": int,
+        "stratum": int,
+        "delivered": str,
+    },
+    "plan": {"planning_time_s": NUMBER, "assumptions": int, "stratum": int, "problem": str},
+    "observe": {"new": NAMES, "forgotten": NAMES},
+    "inspect_deposit": {"lost": NAMES},
+    "unit": {"action": str, "depth": int, "seconds": NUMBER},
+    "recovery": {"layer": str, "failure_class": str, "failure": str},
+    "assumption": {"action": str},
+    "end": {"items": dict},
+}
+
 
 @dataclass(frozen=True, slots=True)
 class Trace:
@@ -92,6 +121,10 @@ def read_trace(path: str | os.PathLike) -> Trace:
                 truncated = True
                 break
             raise _not_a_trace(where, f"line {n} is not JSON ({e.msg})") from None
+        except RecursionError:  # JSON, but nested deeper than the decoder goes: no writer of ours
+            raise _not_a_trace(where, f"line {n} is nested too deeply to read") from None
+        except ValueError:  # JSON, but a whole number of more digits than int() takes (4,300)
+            raise _not_a_trace(where, f"line {n} has a number of too many digits to read") from None
         if not isinstance(event, dict) or not isinstance(event.get("kind"), str):
             raise _not_a_trace(where, f'line {n} is not a trace event (no "kind")')
         if not events and event["kind"] != "start":
@@ -138,10 +171,26 @@ def _malformed(event: dict) -> str | None:
         return None
     fields = {"sim_s": NUMBER, "wall_s": NUMBER} | REQUIRED.get(event["kind"], {})
     for name, kind in fields.items():
-        value = event.get(name)
-        if not isinstance(value, kind) or (kind is not bool and isinstance(value, bool)):
+        if not _is(event.get(name), kind):
             return f'whose "{name}" is missing or not {WHAT[kind]}'
+    for name, kind in OPTIONAL.get(event["kind"], {}).items():
+        value = event.get(name)
+        if value is not None and not _is(value, kind):
+            return f'whose "{name}" is not {WHAT[kind]}'
+    if event["kind"] == "action" and not all(_is(p, POINT) for p in event.get("path") or []):
+        return 'whose "path" is not a list of points [x, y]'
     return None
+
+
+def _is(value, kind) -> bool:
+    """Whether a JSON value is of ``kind``: a type (a bool is no number), or POINT, NAMES, COUNTS."""
+    if kind == POINT:
+        return isinstance(value, list) and len(value) == 2 and all(_is(v, NUMBER) for v in value)
+    if kind == NAMES:
+        return isinstance(value, list) and all(isinstance(v, str) for v in value)
+    if kind == COUNTS:
+        return isinstance(value, dict) and all(_is(v, NUMBER) for v in value.values())
+    return isinstance(value, kind) and (kind is bool or not isinstance(value, bool))
 
 
 def _text(where: str) -> str:
@@ -324,10 +373,15 @@ def _strata(actions: list[dict]) -> dict[str, int]:
 def _recovery_steps(trace: Trace) -> dict:
     steps = trace.of("recovery")
     counted = [r for r in steps if r.get("layer") != "error_layer"]
+
+    def by(field: str) -> dict:  # a step without the field counts under None, listed last
+        found = Counter(r.get(field) for r in counted)
+        return dict(sorted(found.items(), key=lambda kv: (kv[0] is None, str(kv[0]))))
+
     return {
-        "by_class": dict(sorted(Counter(r.get("failure_class") for r in counted).items())),
-        "by_layer": dict(sorted(Counter(r.get("layer") for r in counted).items())),
-        "by_failure": dict(sorted(Counter(r.get("failure") for r in counted).items())),
+        "by_class": by("failure_class"),
+        "by_layer": by("layer"),
+        "by_failure": by("failure"),
         "exhausted": len(steps) - len(counted),
     }
 
