@@ -41,6 +41,7 @@ class CorpusPair:
 def pytest_configure(config: pytest.Config) -> None:
     # what the tests' children leave behind comes back to this process (tests/processes.py)
     become_subreaper()
+    _hypothesis_home(config)
 
 
 def corpus_root() -> Path:
@@ -211,7 +212,7 @@ def expect_lines():
     return check
 
 
-def pytest_configure(config):
+def _hypothesis_home(config: pytest.Config) -> None:
     """Hypothesis (tests/test_fuzz.py) keeps caches in ./.hypothesis from the moment its tests are
     collected: here in a temporary folder of the run's own, removed at its end, never in the
     checkout."""
