@@ -300,3 +300,30 @@ def test_a_scenario_tomllib_cannot_decode_is_bad_input_not_a_traceback(write, va
     with pytest.raises(ScenarioError) as info:
         load(path)
     assert info.value.messages == [f"{path}: {why}"]
+
+
+def test_a_plan_events_problem_name_the_os_refuses_is_a_file_not_there_not_the_pages_fault(
+    mission_trace, capsys
+):
+    """Found by bench/fuzz.py: a problem path of 100,000 characters made Path.is_file raise
+    ENAMETOOLONG, which `--html` reported as its own page's "cannot write the page: File name too
+    long" (exit 2, the wrong file named). The page is written, as for a PDDL folder gone; `--replan`
+    says it cannot compare the facts."""
+    import json
+
+    lines = mission_trace.read_text().split("\n")
+    replans = []
+    for i, line in enumerate(lines):  # every plan event's problem named so
+        if '"kind": "plan"' in line or '"kind":"plan"' in line:
+            event = json.loads(line)
+            event["problem"] = "x" * 100_000
+            lines[i] = json.dumps(event)
+            replans.append(event["replan"])
+    assert max(replans) >= 1  # a replan to compare with the one before it
+    path = mission_trace.parent / "long-name.jsonl"
+    path.write_text("\n".join(lines))
+    page = mission_trace.parent / "long-name.html"
+    assert main(["trace", str(path), "--html", str(page)]) == 0
+    assert page.is_file() and "cannot write" not in capsys.readouterr().err
+    assert main(["trace", str(path), "--replan", str(max(replans))]) == 0
+    assert "cannot be had (File name too long)" in capsys.readouterr().out

@@ -148,7 +148,13 @@ def _init(trace: Trace, relative: str | None) -> tuple[set[str], dict[str, float
     if not relative:
         raise _Missing("the plan event names no problem file: belief facts not compared")
     path = trace.beside(relative)
-    if not path.is_file():
+    try:
+        there = path.is_file()
+    except OSError as e:  # a name the OS refuses (too long, say): Path.is_file raises
+        raise _Missing(
+            f"the plan event's problem file cannot be had ({e.strerror}): belief facts not compared"
+        ) from None
+    if not there:
         folder = path.parent if path.parent != trace.path.parent else path
         raise _Missing(f"{folder}: gone (the trace's PDDL folder): belief facts not compared")
     try:

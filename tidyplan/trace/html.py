@@ -233,9 +233,10 @@ def _snapshots(trace: Trace) -> dict[str, dict]:
         rel = p.get("problem")
         if not rel or rel in out:
             continue
-        if not trace.beside(rel).is_file():
+        try:  # a name the OS refuses (too long, say) is a file not there, not the page's fault
+            text = trace.beside(rel).read_text(encoding="utf-8", errors="replace")
+        except OSError:
             continue
-        text = trace.beside(rel).read_text(encoding="utf-8", errors="replace")
         lines = _HEADER.findall(text)
         waypoints = {n: (float(x), float(y), kind) for n, kind, state, x, y in lines if not state}
         believed = {n: (float(x), float(y)) for n, _, state, x, y in lines if state == "placed"}
