@@ -209,6 +209,17 @@ def test_each_rule_has_its_message(old, new, message):
     assert errors(edit(old, new)) == [f"s.toml: {m}" for m in message.split("\ns.toml: ")]
 
 
+def test_a_name_or_category_that_is_a_list_is_one_message_not_a_traceback():
+    """Found by bench/fuzz.py: a furniture's name (or a deposit's category) given as a list made
+    the checks between entries fail on an unhashable value."""
+    assert errors(edit('name = "table"', "name = [-2.7, -1.7]")) == [
+        "s.toml: furniture[0].name: must be a string, got [-2.7, -1.7]",
+        's.toml: item "apple".on: no furniture named \'table\' (nor "floor")',
+    ]
+    messages = errors(edit('category = "food"\nposition = [3.5', "category = [1]\nposition = [3.5"))
+    assert messages[0] == 's.toml: deposit "tray".category: must be a string, got [1]'
+
+
 def test_tables_of_the_wrong_shape():
     no_room = MINIMAL.split("[room]")[0]
     assert errors(no_room) == ["s.toml: room: missing required key"]

@@ -251,8 +251,9 @@ class _Reader(FieldReader):
 
     def _cross_check(self, parsed: dict[str, list], furniture: dict[str, Furniture]) -> None:
         """Checks between entries; on raw values where a bad sibling field should not hide them."""
-        furniture_names = {t.get("name") for _, t, _ in parsed["furniture"]}
-        accepted = {t.get("category") for _, t, _ in parsed["deposit"]}
+        # raw values, each a string or bad input said elsewhere (a list is no name, nor hashable)
+        furniture_names = {n for _, t, _ in parsed["furniture"] if isinstance(n := t.get("name"), str)}
+        accepted = {c for _, t, _ in parsed["deposit"] if isinstance(c := t.get("category"), str)}
         for label, t, _ in parsed["item"]:
             on, category = t.get("on", FLOOR), t.get("category")
             if isinstance(on, str) and on != FLOOR and on not in furniture_names:
@@ -316,7 +317,7 @@ class _Reader(FieldReader):
         if t is None:
             return Expect()
         self.keys(t, "expect", _EXPECT)
-        names = {k: {e.get("name") for _, e, _ in parsed[k]} for k in _ARRAYS}
+        names = {k: {n for _, e, _ in parsed[k] if isinstance(n := e.get("name"), str)} for k in _ARRAYS}
         values = {}
         for key in _EXPECT:
             kind = key.rsplit("_", 1)[1].removesuffix("s")  # items -> item, deposits -> deposit
