@@ -327,3 +327,20 @@ def test_a_plan_events_problem_name_the_os_refuses_is_a_file_not_there_not_the_p
     assert page.is_file() and "cannot write" not in capsys.readouterr().err
     assert main(["trace", str(path), "--replan", str(max(replans))]) == 0
     assert "cannot be had (File name too long)" in capsys.readouterr().out
+
+
+def test_an_action_whose_units_are_not_names_is_bad_input_not_a_traceback(mission_trace, capsys):
+    """Found by bench/fuzz.py: an action event's ``units`` as a number made the score's count of
+    deliveries raise a TypeError."""
+    import json
+
+    lines = mission_trace.read_text().split("\n")
+    at = next(i for i, line in enumerate(lines) if '"kind":"action"' in line or '"kind": "action"' in line)
+    event = json.loads(lines[at])
+    event["units"] = 3
+    lines[at] = json.dumps(event)
+    path = mission_trace.parent / "units.jsonl"
+    path.write_text("\n".join(lines))
+    assert main(["trace", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert '"units"' in err and "Traceback" not in err

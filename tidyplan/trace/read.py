@@ -62,6 +62,7 @@ OPTIONAL = {
         "recoveries": int,
         "stratum": int,
         "delivered": str,
+        "units": NAMES,
     },
     "plan": {"planning_time_s": NUMBER, "assumptions": int, "stratum": int, "problem": str},
     "observe": {"new": NAMES, "forgotten": NAMES},
