@@ -5,7 +5,8 @@ from __future__ import annotations
 from sim.scenario.read import loads
 from tests.test_loop import ROOM
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.belief.state import Belief, Detection
+from tidyplan.belief.percepts import Detection
+from tidyplan.belief.state import Belief
 
 # The test room of tests/test_loop.py with a second category and its deposit.
 BOOKS = """

@@ -444,7 +444,7 @@ def test_a_sweep_of_some_stops_sees_only_their_way_in_the_time_their_head_motion
     """A sweep of the stops the belief chose (headings in the room's frame) frames only their
     way: from vp-open the toy is north of the robot; a stop facing north sees it, one facing
     south does not; either takes what its head motions take, a fraction of a whole sweep."""
-    from tidyplan.belief.state import SWEEP_STOPS
+    from tidyplan.belief.percepts import SWEEP_STOPS
     from tidyplan.worlds.base import sweep_pans, sweep_seconds
 
     w = world(loads(HIDE, "hide.toml"))

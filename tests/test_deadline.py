@@ -13,8 +13,9 @@ from sim.scenario.read import loads
 from tests.test_loop import ROOM as LOOP_ROOM
 from tests.test_loop import _events, _items
 from tidyplan.belief.geometry import RoomMap, deposit_waypoint
+from tidyplan.belief.percepts import Detection
 from tidyplan.belief.problem import robot_waypoint
-from tidyplan.belief.state import Belief, Detection
+from tidyplan.belief.state import Belief
 from tidyplan.loop.deadline import DRAWERS_POINTS, PULL_S, PUT_S, STOP_S, TAKE_S, deadline
 from tidyplan.loop.goals import HORIZON, goals
 from tidyplan.loop.mission import run

@@ -210,7 +210,7 @@ def test_when_nothing_more_can_be_done_the_referee_decides(tmp_path, monkeypatch
     # A false detection in the corner behind a cupboard: no grasp pose, no look can forget it. The
     # real toy is tidied; the loop ends with no plan for the phantom, and the referee finds the
     # room tidy: a success that says what the belief still held.
-    from tidyplan.belief.state import Detection
+    from tidyplan.belief.percepts import Detection
 
     real, looks = SymbolicWorld.look, {"n": 0}
 
@@ -356,7 +356,8 @@ def test_the_action_limit_grows_with_the_items_the_robot_knows_of(tmp_path):
     more), never under 300. A fixed 300 stopped a 96-object room at 70 tidied (four actions a
     delivery); a 3-toy room keeps the floor of 300."""
     from tidyplan.belief.geometry import RoomMap
-    from tidyplan.belief.state import Belief, Detection
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.belief.state import Belief
     from tidyplan.exec.bindings import MonitoredExecutor
     from tidyplan.loop.loop import LoopConfig, Mission
     from tidyplan.loop.scenarios import DOMAIN

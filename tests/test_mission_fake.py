@@ -19,7 +19,8 @@ import pytest
 
 from sim.scenario.read import loads
 from tidyplan.belief.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
-from tidyplan.belief.state import Belief, Detection, Frame
+from tidyplan.belief.percepts import Detection, Frame
+from tidyplan.belief.state import Belief
 from tidyplan.exec.bindings import MonitoredExecutor
 from tidyplan.loop.loop import Mission
 from tidyplan.loop.scenarios import DOMAIN

@@ -153,7 +153,8 @@ def test_whether_an_item_is_an_orientation_item_follows_what_the_detector_says_o
     """The object a look or a close look finds of a category near a believed one may be another
     one: a box beside a marker, both tools. Believed a marker still, the box was stood on its end
     in container B, out of which it toppled and fell off the table (wrs-task1-s002, pybullet)."""
-    from tidyplan.belief.state import Belief, Detection
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.belief.state import Belief
 
     s = _room()
     belief = Belief(s, RoomMap(s))

@@ -53,7 +53,7 @@ def test_an_item_that_fell_unseen_is_no_obstacle_where_the_robot_stands():
     faults, seed 1, a cup dropped four times on the way to the container). It still gets a grasp
     pose, from which the pick-up looks for it."""
     from tests.test_loop import _scenario
-    from tidyplan.belief.state import Detection
+    from tidyplan.belief.percepts import Detection
 
     scenario = _scenario("fell", [("t1", 1.5, 2.0)])
     belief = Belief(scenario, RoomMap(scenario))

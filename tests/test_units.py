@@ -99,7 +99,8 @@ def test_an_item_forgotten_by_a_later_look_of_the_same_action_is_not_reported_ne
     """An action looks more than once (a unit's check, the closing look): a phantom first seen by
     one look and forgotten by the next is not among the action's new items, so the loop never
     tries to bind or plan for an item the belief no longer holds."""
-    from tidyplan.belief.state import Belief, Detection
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.belief.state import Belief
     from tidyplan.exec.units import Context
 
     scenario = _scenario("phantom", [("t1", 1.8, 1.0)])
@@ -181,7 +182,8 @@ def test_an_item_beside_the_base_is_not_forgotten_by_looks_that_cannot_see_the_f
     base is blind, so looks that miss an item lying there are no evidence it is gone (in pybullet,
     a box dropped beside the robot was forgotten and then driven into). The same item farther out,
     in plain view, is forgotten after as many misses."""
-    from tidyplan.belief.state import FORGET_AFTER, Belief, Detection
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.belief.state import FORGET_AFTER, Belief
 
     scenario = _scenario("beside", [("t1", 1.8, 1.0)])
     belief = Belief(scenario, RoomMap(scenario))
@@ -200,7 +202,8 @@ def test_a_look_that_confirms_an_item_takes_its_place_and_extent_as_it_lies_now(
     """A tall box knocked over covers more floor, a cup knocked aside lies elsewhere: the look that
     confirms them says so, and the map the robot plans on follows (in pybullet the belief kept a
     toppled toolbox upright, and the base drove into it again and again)."""
-    from tidyplan.belief.state import Belief, Detection
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.belief.state import Belief
 
     scenario = _scenario("toppled", [("t1", 1.8, 1.0)])
     belief = Belief(scenario, RoomMap(scenario))
@@ -218,7 +221,8 @@ def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():
     """drop_object puts the item on a ring around the base: 0.45 m out, or farther for a long one,
     so that turned any way it leaves the robot's own cell free (a toolbox lying, 0.45 m long, put
     down 0.45 m out shut the robot in beside it: case III with faults, seed 3)."""
-    from tidyplan.belief.state import Belief, Detection
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.belief.state import Belief
     from tidyplan.exec.units import Context, PutDown
 
     scenario = _scenario("long", [("t1", 1.5, 1.0, (0.45, 0.19, 0.19))])
@@ -291,7 +295,8 @@ def test_an_item_the_arm_did_not_reach_is_grasped_from_another_pose_next_time():
     arm did not reach, is not tried from the same pose again (wrs-task1-s106, pybullet: a spoon
     on the floor between two tables, tried 0.64 m out from one pose until given up)."""
     from tidyplan.belief.geometry import grasp_waypoint
-    from tidyplan.belief.state import Belief, Detection
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.belief.state import Belief
 
     scenario = _scenario("reach", [("t1", 1.5, 1.5)])
     belief = Belief(scenario, RoomMap(scenario))
@@ -313,7 +318,8 @@ def test_each_look_after_an_action_says_what_it_was_for():
     """A sweep's expected finds: the items nobody has found, spread over the placement points
     nobody has seen, the share of them in view, at the detector's hit rate. The trace says why
     each sweep was taken; where one could find nothing, there is none (the glance only)."""
-    from tidyplan.belief.state import Belief, Detection
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.belief.state import Belief
     from tidyplan.exec.units import Context, Look
 
     scenario = _scenario("why", [("t1", 1.8, 1.0), ("t2", 0.6, 2.6)])  # told of two toys
@@ -343,7 +349,8 @@ def test_after_an_action_where_no_sweep_pays_the_robot_glances_in_no_time():
     """The Look unit: the frames on the way and one from here, for the monitor, at no cost; a
     sweep only where one pays. A frame counts misses only in its own field: an item behind the
     robot is not missed by it, one ahead is."""
-    from tidyplan.belief.state import Belief, Detection, Frame
+    from tidyplan.belief.percepts import Detection, Frame
+    from tidyplan.belief.state import Belief
     from tidyplan.exec.units import GLANCE_WHY, Context, Look
 
     scenario = _scenario("glance", [("t1", 1.8, 1.0), ("t2", 0.6, 2.6)])
@@ -384,7 +391,8 @@ def test_a_sweep_is_taken_stop_by_stop_where_the_space_nobody_has_seen_is():
     """Look where it pays: a stop's expected finds are its part of the sweep's (they add up to
     it); with the space east of the robot seen, the unseen-space sweep takes only stops facing
     the rest; a sweep of some stops marks seen, and counts misses in, their frames only."""
-    from tidyplan.belief.state import SWEEP_STOPS, Belief
+    from tidyplan.belief.percepts import SWEEP_STOPS
+    from tidyplan.belief.state import Belief
     from tidyplan.exec.units import STOP_FINDS, Context, Look
 
     scenario = _scenario("stops", [("t1", 1.8, 1.0), ("t2", 0.6, 2.6)])
@@ -408,7 +416,8 @@ def test_a_sweep_is_taken_stop_by_stop_where_the_space_nobody_has_seen_is():
 
 
 def test_a_sweep_of_some_stops_counts_a_miss_only_in_their_frames():
-    from tidyplan.belief.state import SWEEP_STOPS, Belief, Detection
+    from tidyplan.belief.percepts import SWEEP_STOPS, Detection
+    from tidyplan.belief.state import Belief
 
     scenario = _scenario("misses", [("t1", 2.5, 1.5), ("t2", 0.5, 1.5)])
     room = RoomMap(scenario)

@@ -36,6 +36,7 @@ from sim.scenario.model import DrawerLayout, Scenario, drawer_layout, out_boxes
 from sim.visibility import GLANCE_TILT_DEG, Box3, in_frame, visible, visible_points
 from tidyplan.belief import viewpoints
 from tidyplan.belief.geometry import ENTRANCE, MapFacts, Placed, RoomMap
+from tidyplan.belief.percepts import MISS_EDGE_DEG, MISS_WIDTH, SWEEP_STOPS, Detection, Frame, in_stops
 
 Point = tuple[float, float]
 
@@ -74,45 +75,6 @@ class Known:
 
     def placed(self) -> Placed:
         return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0)
-
-
-@dataclass(frozen=True, slots=True)
-class Detection:
-    """One object the camera reports: its category, where it appears to be, and its footprint
-    (an RGB-D detection gives the object's bounding box)."""
-
-    category: str
-    x: float
-    y: float
-    on: str = "floor"
-    sx: float = 0.08
-    sy: float = 0.08
-    sz: float = 0.10
-    # an orientation item (WRS Task 1's markers, fork and spoon): the direction, in the room, of
-    # the end that must go down; None for any other object
-    down: tuple[float, float, float] | None = None
-
-
-@dataclass(frozen=True, slots=True)
-class Frame:
-    """One camera frame the robot took on its way (driving, or at work), at no cost in time: the
-    camera runs while the robot moves. Where the lens stood (x, y), which way it looked (rad, the
-    room's frame), how far down it was tilted (degrees; the driving tilt by default, a head aimed
-    at the robot's work lower), what the detector reported."""
-
-    at: Point
-    heading: float | None  # None: a camera that sees all around (a fake world's)
-    detections: list[Detection]
-    tilt_deg: float = GLANCE_TILT_DEG
-
-
-# Of a frame's field, the part where a miss counts (its edges cut objects, and the head's pan
-# lags the base's turn): the central share of the width, and this many degrees inside its top and foot
-MISS_WIDTH, MISS_EDGE_DEG = 0.8, 3.0
-# A sweep's stops as the belief chooses them: headings in the room's frame this far apart (360/7 deg,
-# under the camera's 58 deg width, so that the stops' frames overlap), each frame at both tilts (the
-# floor from the robot's feet to table tops, as a whole sweep's)
-SWEEP_STOPS = tuple(2 * math.pi * k / 7 for k in range(7))
 
 
 @dataclass(slots=True)
@@ -260,7 +222,9 @@ class Belief:
         at = self.robot if frame is None else frame.at
         wedge = frame is not None and frame.heading is not None
         if stops is not None:  # a sweep of some stops: what their frames show, at both tilts
-            self.seen |= self._view(at) & self._in_stops(at, stops, self._targets[:, :2])
+            self.seen |= self._view(at) & in_stops(
+                at, stops, self._targets[:, :2], self.scenario.sensing.fov_h_deg
+            )
         elif not wedge:
             self.seen |= self._view(at)
         else:
@@ -298,7 +262,10 @@ class Belief:
                 and not self._in_frame(at, frame.heading, *self._xyz(k), miss=True, tilt=frame.tilt_deg)[0]
             ):
                 continue
-            if stops is not None and not self._in_stops(at, stops, self._xyz(k)[0], MISS_WIDTH)[0]:
+            if (
+                stops is not None
+                and not in_stops(at, stops, self._xyz(k)[0], self.scenario.sensing.fov_h_deg, MISS_WIDTH)[0]
+            ):
                 continue
             k.misses += 1
             if k.misses >= FORGET_AFTER:
@@ -571,18 +538,6 @@ class Belief:
             (h, missing * float((shown & (nearest == i)).sum()) / total * hit)
             for i, h in enumerate(SWEEP_STOPS)
         ]
-
-    def _in_stops(
-        self, at: Point, stops: tuple[float, ...], xy: np.ndarray, width: float = 1.0
-    ) -> np.ndarray:
-        """Which points ``xy`` lie within ``width`` of the camera's width of one of the ``stops``'
-        headings from ``at`` (a stop's frames at both tilts hold the floor and the table tops)."""
-        bearing = np.arctan2(xy[:, 1] - at[1], xy[:, 0] - at[0])
-        half = math.radians(width * self.scenario.sensing.fov_h_deg / 2)
-        inside = np.zeros(len(xy), dtype=bool)
-        for h in stops:
-            inside |= np.abs((bearing - h + math.pi) % (2 * math.pi) - math.pi) <= half
-        return inside
 
     def reset_exploration(self) -> None:
         """Forget what was seen: the floor changed, so views that were blocked may be open now."""

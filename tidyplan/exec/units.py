@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 
 from tidyplan.belief.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, deposit_waypoint, straight
-from tidyplan.belief.state import SWEEP_STOPS
+from tidyplan.belief.percepts import SWEEP_STOPS
 from tidyplan.exec.catalogue import (
     ADJUST_BASE,
     ADJUST_POSE,

@@ -14,8 +14,9 @@ from __future__ import annotations
 from collections import Counter
 
 from tidyplan.belief.geometry import deposit_waypoint
+from tidyplan.belief.percepts import Detection
 from tidyplan.belief.problem import robot_waypoint
-from tidyplan.belief.state import Belief, Detection
+from tidyplan.belief.state import Belief
 from tidyplan.planning.planner import Step
 from tidyplan.trace import events
 

@@ -13,7 +13,7 @@ from typing import Protocol, runtime_checkable
 
 from sim.scenario.model import Orientation
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.belief.state import Detection, Frame
+from tidyplan.belief.percepts import Detection, Frame
 
 Point = tuple[float, float]
 

@@ -11,7 +11,7 @@ import math
 from sim.camera import sample_points
 from sim.motion import base_contacts, blocked
 from sim.robot import CAMERA_TILT, YAW_SPEED
-from tidyplan.belief.state import Detection, Frame
+from tidyplan.belief.percepts import Detection, Frame
 from tidyplan.worlds.base import TILTS, sweep_pans
 
 Point = tuple[float, float]

@@ -32,7 +32,7 @@ from sim.robot import RAISED, STOW, YAW_SPEED
 from sim.room import build, inside, opening
 from sim.scenario.model import ORIENTATION, STAND_DEG, Scenario
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.belief.state import Detection
+from tidyplan.belief.percepts import Detection
 from tidyplan.worlds.base import FRAME_EVERY, Odometer, Outcome, Rates, TrueItem, WorldReferee
 from tidyplan.worlds.pybullet.drawer import Drawers
 from tidyplan.worlds.pybullet.hand import SETTLE_S, Hand
