@@ -33,6 +33,8 @@ import time
 from collections import Counter
 from pathlib import Path
 
+from tidyplan.sweep.missions import descendants
+
 HEAVY = "grasp_drop=0.2,perception_miss=0.2,perception_false=0.05,path_blocked=0.1"
 
 
@@ -53,23 +55,6 @@ def _fds(pid: int) -> int:
         return 0
 
 
-def _tree(pid: int) -> list[int]:
-    """Every process under ``pid`` (children, grandchildren, ...), from /proc."""
-    children: dict[int, list[int]] = {}
-    for entry in os.scandir("/proc"):
-        if entry.name.isdigit():
-            with contextlib.suppress(OSError, ValueError, IndexError):
-                with open(f"/proc/{entry.name}/stat") as f:
-                    ppid = int(f.read().rsplit(")", 1)[1].split()[1])
-                children.setdefault(ppid, []).append(int(entry.name))
-    out, todo = [], [pid]
-    while todo:
-        for child in children.get(todo.pop(), []):
-            out.append(child)
-            todo.append(child)
-    return out
-
-
 def _direct(pid: int, tree: list[int]) -> list[int]:
     found = []
     for child in tree:
@@ -81,7 +66,7 @@ def _direct(pid: int, tree: list[int]) -> list[int]:
 
 
 def sample(pid: int) -> dict:
-    tree = _tree(pid)
+    tree = descendants(pid)
     missions = _direct(pid, tree)
     return {
         "rss_kb": _rss_kb(pid),
