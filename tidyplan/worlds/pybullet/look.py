@@ -111,7 +111,8 @@ class HeadCamera:
         """The head while the base drives ``seconds`` more along ``heading``: along the way, and
         in the drive's last moments (``left_s`` to go) at ``face``, what the robot will work on
         there, so that the close look's head motion is done on the way."""
-        if face is not None:
+        # the aim asks the camera's pose; no head motion takes longer than its pan range at 1 rad/s
+        if face is not None and left_s - seconds <= (PANS[0] - PANS[-1]) + AIM_MARGIN_S:
             pan, tilt = self._aim(face)
             need = max(abs(pan - self.hsr.q("head_pan_joint")), abs(tilt - self.hsr.q("head_tilt_joint")))
             if left_s - seconds <= need / self.hsr.joints["head_tilt_joint"].speed + AIM_MARGIN_S:
