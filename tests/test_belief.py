@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from sim.scenario.read import loads
 from tests.test_loop import ROOM
 from tidyplan.belief.geometry import RoomMap
@@ -44,3 +46,29 @@ def test_a_detection_beside_a_believed_item_or_above_it_is_a_new_item():
     belief, _ = _belief_with_a_puzzle()
     above = belief.observe([Detection("book", 1.5, 1.5, "shelf")], None)  # on another support
     assert len(above.new) == 1 and above.overlapping == []
+
+
+def test_a_round_of_exploration_looks_from_beside_where_a_missing_item_was_forgotten():
+    # wrs-task1-s007: a shape seen three times beside a tall table, missed by three frames and
+    # forgotten, and never seen again from the viewpoints the map's cover had chosen
+    belief, toy = _belief_with_a_puzzle()
+    belief.forget(toy)
+    assert ("unseen-toy-1", "toy") in belief.virtual()
+    belief.seen[:] = True  # all of it seen: the next step is a new round
+    first = [v for v in belief.explore_again() if belief.at_forgotten.get(v) == toy]
+    assert len(first) == 1
+    q = belief.room.fixed[first[0]]
+    assert 0.9 <= math.dist(q, (1.5, 1.5)) <= 1.3
+    assert belief.p_item_near(belief.facts())[first[0]] >= 0.5
+    belief.looked_from.add(first[0])
+    second = [v for v in belief.explore_again() if belief.at_forgotten.get(v) == toy]
+    assert len(second) == 1 and math.dist(belief.room.fixed[second[0]], q) > 0.5  # another side
+
+
+def test_no_viewpoint_for_a_forgotten_item_whose_category_is_all_found():
+    belief, toy = _belief_with_a_puzzle()
+    belief.forget(toy)
+    belief.observe([Detection("toy", 2.2, 2.4, "floor", 0.08, 0.08, 0.06)], None)  # the toy, elsewhere
+    belief.seen[:] = True
+    belief.explore_again()
+    assert belief.at_forgotten == {}
