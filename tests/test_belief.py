@@ -72,3 +72,15 @@ def test_no_viewpoint_for_a_forgotten_item_whose_category_is_all_found():
     belief.seen[:] = True
     belief.explore_again()
     assert belief.at_forgotten == {}
+
+
+def test_an_item_found_where_another_believed_item_lies_is_that_item_not_two():
+    # wrs-task1-s009: a close look moved kitchen-2 onto kitchen-7, the same object seen before
+    # from afar under a new name; each then blocked the other's grasp poses: no plan for either
+    belief, toy = _belief_with_a_puzzle()
+    other = belief.observe([Detection("toy", 2.3, 1.5, "floor", 0.08, 0.08, 0.06)], None).new[0]
+    belief.relocate(toy, 2.31, 1.49)
+    assert sorted(belief.items) == [toy]
+    belief.observe([Detection("toy", 1.0, 2.5, "floor", 0.08, 0.08, 0.06)], None)
+    belief.relocate(toy, 1.2, 2.5)  # beside it, not on it: two items
+    assert len(belief.items) == 2 and other not in belief.items

@@ -396,6 +396,13 @@ class Belief:
         k.x, k.y, k.spread, k.misses = x, y, 0.0, 0
         if size is not None:
             k.sx, k.sy, k.sz = size
+        # another believed item whose footprint holds the place is this object, seen earlier under
+        # another name (two solid objects cannot lie there): kept, each blocked the other's grasp
+        # poses for good (wrs-task1-s009: kitchen-2 and kitchen-7 at one place, no plan for either)
+        for other in [o for o in self.items.values() if o.name != name and o.state == "placed"]:
+            if other.on == k.on and abs(x - other.x) < other.sx / 2 and abs(y - other.y) < other.sy / 2:
+                del self.items[other.name]
+                self.sticky.pop(other.name, None)
 
     def delivered(self, name: str, deposit: str) -> None:
         k = self.items[name]

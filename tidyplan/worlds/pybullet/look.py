@@ -110,15 +110,46 @@ class HeadCamera:
     def _head_on_the_way(self, heading: float, face: Point | None, left_s: float, seconds: float) -> None:
         """The head while the base drives ``seconds`` more along ``heading``: along the way, and
         in the drive's last moments (``left_s`` to go) at ``face``, what the robot will work on
-        there, so that the close look's head motion is done on the way."""
+        there, so that the close look's head motion is done on the way, and aimed by the time
+        the frame the detector works on as the base covers its last second is taken
+        (``_recognition_frame``)."""
         # the aim asks the camera's pose; no head motion takes longer than its pan range at 1 rad/s
-        if face is not None and left_s - seconds <= (PANS[0] - PANS[-1]) + AIM_MARGIN_S:
+        ahead = AIM_MARGIN_S + RECOGNISE_S
+        if face is not None and left_s - seconds <= (PANS[0] - PANS[-1]) + ahead:
             pan, tilt = self._aim(face)
             need = max(abs(pan - self.hsr.q("head_pan_joint")), abs(tilt - self.hsr.q("head_tilt_joint")))
-            if left_s - seconds <= need / self.hsr.joints["head_tilt_joint"].speed + AIM_MARGIN_S:
+            if left_s - seconds <= need / self.hsr.joints["head_tilt_joint"].speed + ahead:
                 self._head_toward(pan, tilt, seconds)
                 return
         self._head_along(heading, seconds)
+
+    def _recognition_frame(self, end: Point, left_s: float) -> None:
+        """A frame for the detector while the base drives its last ``left_s`` seconds to ``end``
+        with the head on what it will work on there: its detections are ready RECOGNISE_S after
+        it was taken, and a close look from ``end`` that finds its item in them waits only for
+        what is left of that (``locate``). What the detector reports of it, missed at the
+        false-negative rate as a frame's are."""
+        self._recognised = (end, self._frame().detections, left_s)
+
+    def _from_recognition(self, near: Point, radius: float, category: str | None) -> Detection | None:
+        """The detection of the item of ``category`` nearest ``near`` within ``radius`` in the
+        drive's recognition frame, once: only where the robot has not moved since it arrived
+        (else None, and the close look looks)."""
+        recognised, self._recognised = self._recognised, None
+        if recognised is None:
+            return None
+        end, detections, left_s = recognised
+        if math.dist(end, self.robot) > 1e-6:
+            return None
+        found = [
+            d
+            for d in detections
+            if math.dist((d.x, d.y), near) <= radius and (category is None or d.category == category)
+        ]
+        if not found:
+            return None
+        self._spend(max(0.0, RECOGNISE_S - left_s))  # what is left of the detector's second
+        return min(found, key=lambda d: (math.dist((d.x, d.y), near), d.category, d.x, d.y))
 
     def _torso_needed(self, face: Point | None, end: Point, yaw: float) -> bool:
         """Will the close look at ``face`` from ``end`` (the base turned to ``yaw``) need the torso
@@ -167,7 +198,16 @@ class HeadCamera:
         to the top first (the lens to 1.35 m); where that is not enough, the base steps back (if
         the way is free) until the place is in range, looks, and returns. The head stays on the
         place and the torso up for what comes next (the grasp moves them with the arm). Missed
-        at the false-negative rate."""
+        at the false-negative rate.
+
+        Where the drive here ended with the head on the place and the detector found the item in
+        the frame it took in the drive's last second (``_recognition_frame``), that is the close
+        look: the robot has not moved since."""
+        if math.dist(near, self.robot) >= AROUND:
+            ready = self._from_recognition(near, radius, category)
+            if ready is not None:
+                return ready
+        self._recognised = None
         candidates = {
             o.name: (self.bodies[o.name], sample_points(self.client, self.bodies[o.name]))
             for o in self._placed()

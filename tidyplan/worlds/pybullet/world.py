@@ -36,7 +36,7 @@ from tidyplan.belief.percepts import Detection
 from tidyplan.worlds.base import FRAME_EVERY, Odometer, Outcome, Rates, TrueItem, WorldReferee
 from tidyplan.worlds.pybullet.drawer import Drawers
 from tidyplan.worlds.pybullet.hand import SETTLE_S, Hand
-from tidyplan.worlds.pybullet.look import AIM_MARGIN_S, TORSO_UP, HeadCamera
+from tidyplan.worlds.pybullet.look import AIM_MARGIN_S, RECOGNISE_S, TORSO_UP, HeadCamera
 from tidyplan.worlds.pybullet.put import HeldAs
 
 Point = tuple[float, float]
@@ -89,6 +89,9 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
         self.knocked: list[str] = []  # tidied objects a release or a fall knocked out of their deposit
         self._pan_forward = True  # sweeps alternate direction: no return swing
         self._lift_after_look: float | None = None  # the arm lift a close look raised the torso from
+        # (where the drive ended, what the detector found, seconds to go when it was taken) of the
+        # frame taken in a drive's last second with the head on its work
+        self._recognised: tuple[Point, list, float] | None = None
         x, y, _ = self.hsr.base()
         self.robot: Point = (x, y)
         self.odometer = Odometer(track=[self.robot])
@@ -128,6 +131,7 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
             turn = (want - yaw0 + math.pi) % (2 * math.pi) - math.pi
         block_at, drop_at = self._faults_on_path(n)
         ignore = self._ignored()
+        self._recognised = None
         # a torso a close look raised comes down while the base drives (joints and base together);
         # where the close look at the end will need it up, it rises in the drive's last seconds
         rise = n > 0 and self._torso_needed(face, path[-1], yaw0 + turn)
@@ -166,6 +170,8 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
                     self._torso_rising(d / speed)
                 left_s -= d / speed
                 self._arrive(q, d, d / speed)
+                if face is not None and self._recognised is None and left_s <= RECOGNISE_S:
+                    self._recognition_frame(path[-1], left_s)
                 passed.append(q)
                 framed += d
                 last = (k, s) == (n - 1, steps)  # the last frame is the glance's own
