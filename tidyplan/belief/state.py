@@ -591,7 +591,7 @@ class Belief:
         pts = self._targets[:, :2]
         names = []
         for name, k in sorted(self._forgotten.items()):
-            if k.category not in lacking or k.name in self.items:
+            if k.category not in lacking or name in self.items:
                 continue
             near = np.hypot(pts[:, 0] - k.x, pts[:, 1] - k.y) <= 0.25
             if not near.any():

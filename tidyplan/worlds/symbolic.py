@@ -55,7 +55,7 @@ from tidyplan.worlds.base import (
 Point = tuple[float, float]
 
 # s: the pybullet world's means of each motion (bench/clock.py over 18 Task 1 rooms, see above)
-LOOK_S, LOCATE_S, TAKE_S, DELIVER_S, DROP_S = 11.0, 1.7, 3.7, 10.1, 10.5
+LOOK_S, LOCATE_S, TAKE_S, DELIVER_S, DROP_S = 11.0, 1.0, 3.7, 10.1, 10.5
 CLOSE_RANGE = 1.2  # m: what a close-range look (head down, hand camera) sees around the robot
 OPENING_S, HANDLE_S = 1.0, 9.3  # s: a look at a drawer's front; reach its handle, grip, let go, stow
 
