@@ -122,7 +122,8 @@ class RoomMap:
         self._grids: OrderedDict[tuple[float, frozenset[Box]], OccupancyGrid] = OrderedDict()
         self._bare_cells: tuple[list[Point], np.ndarray] | None = None  # for _ring
         self._floors: OrderedDict[tuple, _Floor] = OrderedDict()  # the last few floors' work
-        self._crossing: dict[tuple, dict[Point, tuple[str, ...]]] = {}  # _add_grasp's rings
+        self._rings: dict[Point, list[Point]] = {}  # _ring's answers, by item position
+        self._pairs: dict[tuple, tuple[tuple[int, ...], tuple[int, ...]]] = {}  # _pair's answers
         self._lines: dict[tuple, np.ndarray] = {}  # static paths between points, for _find_blockers
         static = self.grid(())
         self.entrance = static.nearest_free(*scenario.entrance)
@@ -243,20 +244,21 @@ class RoomMap:
         # only poses of an item hemmed in by others (a table side lined with floor items).
         others_floor = [b for b in floor if b.name != p.name and b.clearance(*p.xy) <= GRASP_MAX + 0.5]
         # (``floor``: the floor items numpy found near p, in order; the exact test is this one)
-        # The ring and what crosses it depend on p and the floor items near it only (farther ones
-        # cannot touch a cell within reach): remembered, so a new floor costs the items it moved.
-        near_key = (p, tuple(others_floor), self._out)
-        crossing = self._crossing.get(near_key)
-        if crossing is None:
-            crossing = {}
-            for c in self._ring(p.xy):
-                under = () if bare.free(*c) else tuple(
-                    b.name for b in others_floor if b.clearance(*c) < self.bare_radius
-                )  # fmt: skip
-                crossing[c] = tuple(b.name for b in others_floor if _crosses(c, p.xy, b)) + under
-            if len(self._crossing) > 4096:  # a mission's items times the floors they saw
-                self._crossing.clear()
-            self._crossing[near_key] = crossing
+        # What crosses the ring depends on p and each floor item near it, one pair at a time:
+        # remembered per pair, so a floor with one item more or less costs that item's pairs
+        # only (per whole neighbourhood, every neighbour of a taken item computed its ring again)
+        ring = self._ring(p.xy)
+        crosses: list[list[str]] = [[] for _ in ring]
+        under: list[list[str]] = [[] for _ in ring]
+        for b in others_floor:
+            cross_at, under_at = self._pair(p, b, ring)
+            for k in cross_at:
+                crosses[k].append(b.name)
+            for k in under_at:
+                under[k].append(b.name)
+        crossing = {
+            c: tuple(crosses[k]) + (() if bare.free(*c) else tuple(under[k])) for k, c in enumerate(ring)
+        }
         others = [q for n, q in facts.points.items() if facts.kind[n] in ("grasp", "adjust")]
         # poses taken by other waypoints, and those from which the robot failed to find p before
         keep = _apart(list(crossing), others, 0.1) & _apart(list(crossing), list(avoid), 0.15)
@@ -306,6 +308,8 @@ class RoomMap:
     def _ring(self, at: Point) -> list[Point]:
         """The bare map's free cells within the arm's reach of ``at`` (GRASP_MIN to GRASP_MAX), in
         cell order: one array test, not a loop over the room's ten thousand cells per item."""
+        if at in self._rings:
+            return self._rings[at]
         if self._bare_cells is None:
             cells = self.grid((), bare=True).free_cells()
             self._bare_cells = (cells, np.array(cells, dtype=float).reshape(-1, 2))
@@ -313,7 +317,24 @@ class RoomMap:
         d = np.hypot(xy[:, 0] - at[0], xy[:, 1] - at[1])
         # the same float test as math.dist, so a cell on the ring's edge stays in or out as before
         near = np.nonzero((d >= GRASP_MIN - 1e-9) & (d <= GRASP_MAX + 1e-9))[0]
-        return [c for c in (cells[k] for k in near) if GRASP_MIN <= math.dist(c, at) <= GRASP_MAX]
+        if len(self._rings) > 4096:  # a mission's items and where they were seen
+            self._rings.clear()
+        self._rings[at] = [c for c in (cells[k] for k in near) if GRASP_MIN <= math.dist(c, at) <= GRASP_MAX]
+        return self._rings[at]
+
+    def _pair(self, p: Placed, b: Box, ring: list[Point]) -> tuple[tuple[int, ...], tuple[int, ...]]:
+        """The cells of ``p``'s ring (their indices) from which the arm's reach to ``p`` passes
+        over floor item ``b``, and those ``b`` stands on (within the bare footprint's radius):
+        indices, not a flag per cell, since most of a ring's ~380 cells touch no given item."""
+        key = (p.xy, b)
+        hit = self._pairs.get(key)
+        if hit is None:
+            cross = tuple(k for k, c in enumerate(ring) if _crosses(c, p.xy, b))
+            under = tuple(k for k, c in enumerate(ring) if b.clearance(*c) < self.bare_radius)
+            if len(self._pairs) > 65_536:  # pairs of items near each other, over a mission
+                self._pairs.clear()
+            hit = self._pairs[key] = (cross, under)
+        return hit
 
     def _add_paths(self, facts: MapFacts, items: Sequence[Placed], nav, static, floor_memo: _Floor) -> None:
         names = sorted(facts.points)
