@@ -9,7 +9,8 @@ Invariants, relied on by callers that compare runs byte for byte (bench/tidygen.
   every obstacle box: the robot is a disc, so inflating the obstacles lets paths treat it as a
   point;
 - the graph is 8-connected over free cells, a straight step weighs one cell, a diagonal
-  sqrt(2) cells; it is built in one fixed order, so Dijkstra's ties fall the same way each run;
+  sqrt(2) cells; it is built in one fixed order, so Dijkstra's ties fall the same way each run
+  (which of two equally short paths is taken is the search's choice, the same every time);
 - every choice among equals (nearest cell) breaks ties by cell index, so results are a
   function of the inputs alone.
 
@@ -94,6 +95,7 @@ class OccupancyGrid:
         self._ij: np.ndarray | None = None  # the free cells in _node order (_free_ij)
         self._csr: csr_matrix | None = None
         self._label: np.ndarray | None = None  # every cell's component (_labels)
+        self._reach: dict[int, list[Point]] = {}  # free_cells(reachable_from), by component
 
     # ------------------------------------------------------------------ cells and points
     def xy(self, i: int, j: int) -> Point:
@@ -118,8 +120,17 @@ class OccupancyGrid:
 
     def free_cells(self, reachable_from: Point | None = None) -> list[Point]:
         """Centres of the free cells, in cell order; only those connected to ``reachable_from``
-        when it is given (none if that point is not free): where the robot can actually go."""
-        return [self.xy(*c) for c in self._cells(reachable_from)]
+        when it is given (none if that point is not free): where the robot can actually go.
+        A component's cells are remembered (the map's facts ask every turn of the same floor)."""
+        if reachable_from is None:
+            return [self.xy(*c) for c in self._cells(None)]
+        start = self.cell(*reachable_from)
+        if not self._free_cell(start):
+            return []
+        label = int(self._labels[start])
+        if label not in self._reach:
+            self._reach[label] = [self.xy(*c) for c in self._component_of(start)]
+        return list(self._reach[label])
 
     def nearest_free(self, x: float, y: float, reachable_from: Point | None = None) -> Point:
         """The centre of the free cell closest to (x, y), e.g. to snap a goal out of an obstacle;
@@ -342,22 +353,20 @@ class OccupancyGrid:
 
     def _tree(self, c: Cell) -> np.ndarray:
         """Dijkstra from cell c: for each free cell (by ``_node`` index) the index of the cell
-        before it on the path ``nx.dijkstra_path`` gives (its first predecessor: the same ties
-        broken the same way), -1 where c does not reach (and at c). Remembered, since the grid
-        never changes and a mission asks from the same waypoints again and again; one tree serves
-        every path from c (at 96 objects the map's facts asked for thousands of pairs, one
-        Dijkstra each, most of a turn). An int32 array, not networkx's dicts: a two-room floor's
-        tree was about 3 MB as dicts, and the static map gathers a few hundred in a mission."""
+        before it on a shortest path from c, -1 where c does not reach (and at c). Remembered,
+        since the grid never changes and a mission asks from the same waypoints again and again;
+        one tree serves every path from c. scipy's search in C over ``_matrix``, like the lengths
+        (networkx's in Python, and its graph built for every new floor, were a quarter of a
+        96-object mission's wall time); its ties fall one fixed way for a given grid, so paths
+        are a function of the grid alone. An int32 array: a few hundred are kept in a mission."""
         if c not in self._trees:
             if len(self._trees) >= 512:  # the robot's own pose is a new source every step
                 self._trees.clear()
-            pred, _lengths = nx.dijkstra_predecessor_and_distance(self.graph, c, weight="weight")
-            node = self._node
-            before = np.full(len(self._free_ij), -1, dtype=np.int32)
-            reached = [(u, vs[0]) for u, vs in pred.items() if vs]
-            if reached:
-                us, vs = zip(*reached, strict=True)
-                before[node[tuple(np.array(us).T)]] = node[tuple(np.array(vs).T)]
+            _lengths, pred = dijkstra(
+                self._matrix, directed=False, indices=int(self._node[c]), return_predecessors=True
+            )
+            before = pred.astype(np.int32)
+            before[before < 0] = -1  # scipy's -9999: the source, and cells it does not reach
             self._trees[c] = before
         return self._trees[c]
 
