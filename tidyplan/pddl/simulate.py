@@ -77,6 +77,7 @@ class Simulator:
         now = set(state)
         if closure is not None:
             closure.close(now)
+        static = _StaticFacts(now, self._static_predicates(), self._objects)
         for k, (name, args) in enumerate(steps):
             action = self._action(name)
             binding = self._bind(action, args)
@@ -84,7 +85,7 @@ class Simulator:
                 return frozenset(now), k
             add: set[tuple[str, ...]] = set()
             delete: set[tuple[str, ...]] = set()
-            _effects(action.effect, now, binding, self._objects, add, delete)
+            _effects(action.effect, now, binding, self._objects, add, delete, static)
             now -= delete
             now |= add  # PDDL: adds win over deletes
             if closure is not None:
@@ -98,18 +99,27 @@ class Simulator:
         """False where a precondition atom (of a conjunctive precondition) whose predicate no
         action, assumption or rule changes is false in the ``initial`` state: such facts hold
         or fail for a whole plan, so the step is applicable nowhere in it."""
-        if self._changed is None:
-            self._changed = set(self.domain.derived_predicates)
-            for a in self.domain.actions:
-                _changed_by(a.effect, self._changed)
+        changed = self._changed_predicates()
         action = self._action(name)
         binding = self._bind(action, args)
         pre = action.precondition
         for f in pre.parts if isinstance(pre, m.And) else (pre,):
-            if isinstance(f, m.Atom) and f.predicate != "=" and f.predicate not in self._changed:
+            if isinstance(f, m.Atom) and f.predicate != "=" and f.predicate not in changed:
                 if (f.predicate, *_ground(f.args, binding)) not in initial:
                     return False
         return True
+
+    def _changed_predicates(self) -> set[str]:
+        """The predicates some action or derivation rule changes; the others are static."""
+        if self._changed is None:
+            self._changed = set(self.domain.derived_predicates)
+            for a in self.domain.actions:
+                _changed_by(a.effect, self._changed)
+        return self._changed
+
+    def _static_predicates(self) -> set[str]:
+        changed = self._changed_predicates()
+        return {p.name for p in self.domain.predicates} - changed
 
     def _action(self, name: str) -> m.Action:
         action = self.domain.action(name)
@@ -185,21 +195,96 @@ def _holds(f: m.Formula, state: State, binding: dict[str, str], objects) -> bool
     raise TypeError(f"not a formula: {f!r}")
 
 
-def _effects(e, state: State, binding: dict[str, str], objects, add: set, delete: set) -> None:
-    """Collect an effect's adds and deletes; conditions are evaluated in the state before."""
+def _effects(e, state: State, binding: dict[str, str], objects, add: set, delete: set, static=None) -> None:
+    """Collect an effect's adds and deletes; conditions are evaluated in the state before.
+    ``static``: a run's `_StaticFacts`, for the conditional effects it can match directly."""
     if isinstance(e, m.Literal):
         fact = (e.atom.predicate, *_ground(e.atom.args, binding))
         (delete if e.negated else add).add(fact)
     elif isinstance(e, m.AndEffect):
         for part in e.parts:
-            _effects(part, state, binding, objects, add, delete)
+            _effects(part, state, binding, objects, add, delete, static)
     elif isinstance(e, m.When):
         if _holds(e.condition, state, binding, objects):
-            _effects(e.effect, state, binding, objects, add, delete)
+            _effects(e.effect, state, binding, objects, add, delete, static)
     elif isinstance(e, m.ForallEffect):
+        matches = None if static is None else static.matches(e, binding)
+        if matches is not None:  # the bindings whose condition holds, from the facts themselves
+            for b in matches:
+                _effects(e.effect.effect, state, b, objects, add, delete, static)
+            return
         for b in _bindings(e.variables, binding, objects):
-            _effects(e.effect, state, b, objects, add, delete)
+            _effects(e.effect, state, b, objects, add, delete, static)
     elif isinstance(e, m.Increase):
         return
     else:
         raise TypeError(f"not an effect: {e!r}")
+
+
+class _StaticFacts:
+    """A run's facts of the predicates nothing changes, by predicate, found when first asked.
+
+    ``(forall (?a ?b - waypoint) (when (blocks ?o ?a ?b) ...))`` enumerates every pair of
+    waypoints, tens of thousands in a 96-object room, for each take in the plan; when the
+    condition is one atom of a static predicate that names every variable, the bindings where
+    it holds are exactly its facts that match: one pass over the state per predicate and run.
+    """
+
+    def __init__(self, state: set, predicates: set[str], objects) -> None:
+        self._state, self._predicates, self._objects = state, predicates, objects
+        self._index: dict[tuple[str, int | None], dict] = {}
+        self._typed: dict[tuple[str, ...], frozenset[str]] = {}
+
+    def matches(self, e: m.ForallEffect, binding: dict[str, str]) -> list[dict[str, str]] | None:
+        """The bindings of ``e``'s variables under which its condition holds, or None where ``e``
+        is not ``(forall (vars) (when (static-atom) effect))`` with every variable in the atom."""
+        body = e.effect
+        if not isinstance(body, m.When) or not isinstance(body.condition, m.Atom):
+            return None
+        atom = body.condition
+        names = {v.name for v in e.variables}
+        if atom.predicate not in self._predicates or not names <= set(atom.args):
+            return None
+        # the facts agreeing with the atom's first argument that is no variable of the forall
+        # (a take's item: a room's blocks facts are tens of thousands, an item's a few dozen)
+        fixed = next((k for k, a in enumerate(atom.args) if a not in names), None)
+        facts = self._by(atom.predicate, fixed)
+        if fixed is not None:
+            facts = facts.get(binding.get(atom.args[fixed], atom.args[fixed]), [])
+        typed = {v.name: self._of_type(v.types) for v in e.variables}
+        out = []
+        for fact in facts:
+            if len(fact) != len(atom.args) + 1:
+                continue
+            new: dict[str, str] = {}
+            for a, value in zip(atom.args, fact[1:], strict=True):
+                if a in names:  # a variable of the forall (it shadows an outer one of that name)
+                    if new.setdefault(a, value) != value:
+                        break
+                elif binding.get(a, a) != value:
+                    break
+            else:
+                if all(value in typed[a] for a, value in new.items()):
+                    out.append({**binding, **new})
+        return out
+
+    def _by(self, predicate: str, k: int | None):
+        """The predicate's facts by their argument k (all of them in a list when k is None)."""
+        key = (predicate, k)
+        if key not in self._index:
+            facts = [f for f in self._state if f[0] == predicate]
+            if k is None:
+                self._index[key] = facts
+            else:
+                by: dict[str, list] = {}
+                for f in facts:
+                    if len(f) > k + 1:
+                        by.setdefault(f[k + 1], []).append(f)
+                self._index[key] = by
+        return self._index[key]
+
+    def _of_type(self, types: Sequence[str]) -> frozenset[str]:
+        key = tuple(types)
+        if key not in self._typed:
+            self._typed[key] = frozenset(o for t in types for o in self._objects.get(t, ()))
+        return self._typed[key]
