@@ -124,7 +124,8 @@ class RoomMap:
         self._floors: OrderedDict[tuple, _Floor] = OrderedDict()  # the last few floors' work
         self._rings: dict[Point, list[Point]] = {}  # _ring's answers, by item position
         self._pairs: dict[tuple, tuple[tuple[int, ...], tuple[int, ...]]] = {}  # _pair's answers
-        self._lines: dict[tuple, np.ndarray] = {}  # static paths between points, for _find_blockers
+        # static paths between points and their bounds, for _find_blockers
+        self._lines: dict[tuple, tuple[np.ndarray, tuple[float, ...]]] = {}
         static = self.grid(())
         self.entrance = static.nearest_free(*scenario.entrance)
         self.fixed: dict[str, Point] = {ENTRANCE: self.entrance}
@@ -413,22 +414,31 @@ class RoomMap:
         for n, (a, b) in enumerate(pairs):
             who = [floor[k].name for k in np.nonzero(freed[:, n])[0]]
             if not who:
-                line = self._line(static, a, b)
+                line, (x0, y0, x1, y1) = self._line(static, a, b)
                 # each floor item near the path (one array of distances, not a loop of loops:
-                # at 96 objects that loop was half of every replan)
-                d = np.hypot(xy[:, None, 0] - line[None, :, 0], xy[:, None, 1] - line[None, :, 1])
-                near = (d < self.nav_radius + 0.1).any(axis=1) if len(line) else np.zeros(len(floor), bool)
+                # at 96 objects that loop was half of every replan), of the items within the
+                # path's bounding box grown by the distance only (the others cannot be near)
+                r = self.nav_radius + 0.1
+                near = np.zeros(len(floor), dtype=bool)
+                if len(line):
+                    x0, y0, x1, y1 = x0 - r - 1e-9, y0 - r - 1e-9, x1 + r + 1e-9, y1 + r + 1e-9
+                    (box,) = np.nonzero((xy[:, 0] > x0) & (xy[:, 0] < x1) & (xy[:, 1] > y0) & (xy[:, 1] < y1))
+                    d = np.hypot(xy[box, None, 0] - line[None, :, 0], xy[box, None, 1] - line[None, :, 1])
+                    near[box] = (d < r).any(axis=1)
                 who = [p.name for p, hit in zip(floor, near, strict=True) if hit]
             floor_memo.blockers[(a, b)] = tuple(who)
 
-    def _line(self, static: OccupancyGrid, a: Point, b: Point) -> np.ndarray:
-        """The static map's path a-b as an (n, 2) array (empty: none), remembered: the furniture
-        and the open drawers change seldom, the floor items every few actions."""
+    def _line(self, static: OccupancyGrid, a: Point, b: Point) -> tuple[np.ndarray, tuple[float, ...]]:
+        """The static map's path a-b as an (n, 2) array (empty: none) and its bounding box (x0,
+        y0, x1, y1), remembered: the furniture and the open drawers change seldom, the floor
+        items every few actions."""
         key = (self._out, a, b)
         if key not in self._lines:
             if len(self._lines) > 50_000:
                 self._lines.clear()
-            self._lines[key] = np.array(static.path(a, b) or [], dtype=float).reshape(-1, 2)
+            line = np.array(static.path(a, b) or [], dtype=float).reshape(-1, 2)
+            bounds = (*line.min(axis=0), *line.max(axis=0)) if len(line) else (0.0, 0.0, 0.0, 0.0)
+            self._lines[key] = (line, tuple(float(v) for v in bounds))
         return self._lines[key]
 
 
