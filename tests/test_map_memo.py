@@ -67,3 +67,35 @@ def test_a_move_alone_works_out_only_the_robots_own_waypoint(monkeypatch):
     assert grasps == []
     assert all(moved in pair for pair in searched)
     assert facts == RoomMap(scenario).facts(items, ("wp-robot", moved))
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_items_near_a_path_are_those_a_distance_to_each_of_its_cells_finds(seed):
+    """_near_paths (one gather over the paths' cells) against the plain test it replaced: each
+    floor item whose distance to some cell centre of the static path is under the radius + 0.1.
+    Items scattered over the room, some on the paths themselves; pairs with no path too."""
+    import numpy as np
+
+    scenario = generate("one" if seed % 2 else "two", seed)
+    rng = random.Random(seed)
+    room = RoomMap(scenario)
+    static = room.grid(())
+    free = static.free_cells()
+    floor = []
+    for k in range(60):
+        x, y = rng.choice(free)  # on a cell centre (distances on the grid's steps) or off it
+        dx, dy = (rng.uniform(-0.03, 0.03), rng.uniform(-0.03, 0.03)) if k % 2 else (0.0, 0.0)
+        floor.append(Placed(f"thing-{k}", "food", x + dx, y + dy, "floor", 0.1, 0.1))
+    r = room.nav_radius + 0.1
+    cells = static.free_cells(reachable_from=room.entrance)
+    pairs = [(rng.choice(cells), rng.choice(cells)) for _ in range(150)]
+    pairs += [(rng.choice(free), rng.choice(free)) for _ in range(50)]  # some in other components
+    pairs.append((cells[0], cells[0]))
+    got = room._near_paths(static, floor, pairs)
+    assert got.shape == (len(pairs), len(floor))
+    for n, (a, b) in enumerate(pairs):
+        line = static.path(a, b) or []
+        for k, p in enumerate(floor):
+            want = any(float(np.hypot(p.x - q[0], p.y - q[1])) < r for q in line)
+            assert bool(got[n, k]) == want, (n, k)
+    assert got.any() and not got.all()
