@@ -30,6 +30,28 @@ def test_the_snapshots_atoms_are_the_init_its_text_states():
             assert snap.atoms == init, (case, focused, snap.atoms ^ init)
 
 
+def test_the_monitors_state_is_the_unfocused_snapshots_atoms_with_and_without_a_domain():
+    """belief_state (the map's atoms as a set kept with the map) is write(...).atoms, for the
+    shipped domain and for none, before a look and after."""
+    from tidyplan.belief.problem import belief_state
+    from tidyplan.loop.scenarios import DOMAIN
+
+    tidy = parse(DOMAIN.read_text(), "tidy.pddl")
+    for case in ("case1", "case3"):
+        scenario = load(ROOT / "problems" / f"{case}.toml")
+        belief = Belief(scenario, RoomMap(scenario))
+        world = SymbolicWorld(scenario, belief.room, seed=0)
+        virtual = [("unseen-toy-1", "food")]
+        for turn in range(2):  # before and after a look: a new map, then the same one asked again
+            facts = belief.facts()
+            for domain in (None, tidy):
+                want = write(belief, facts, [], virtual, "t", domain=domain).atoms
+                got = belief_state(belief, facts, virtual, domain)
+                assert got == want, (case, turn, got ^ want)
+                assert any(a[0] == "path" for a in got)
+            belief.observe(world.look(), None)
+
+
 def test_a_robot_shut_in_a_corner_by_an_item_it_dropped_grasps_it_from_where_it_stands():
     """An item dropped at the mouth of a pocket (here between the shelf and two walls) shuts the
     robot in. Its grasp pose must be one the robot reaches from where it stands, not one reached

@@ -168,12 +168,18 @@ def belief_state(
     belief: Belief, facts: MapFacts, virtual: Sequence[tuple[str, str]], domain: m.Domain | None = None
 ) -> frozenset[tuple[str, ...]]:
     """``write(...).state`` without the model: what the monitor simulates the plan from after
-    every action (at 96 objects the model's hundred thousand atoms were most of a turn)."""
-    return frozenset(_contents(belief, facts, virtual, None, domain)[0])
+    every action (at 96 objects the model's hundred thousand atoms were most of a turn).
+    The map's atoms come as a set kept with the map: a state has no order to sort them into."""
+    atoms = frozenset(_contents(belief, facts, virtual, None, domain, with_map=False)[0])
+    map_atoms = _map_set(facts)
+    if domain is not None and not all(domain.predicate(p) is not None for p in _MAP_PREDICATES):
+        map_atoms = frozenset(a for a in map_atoms if domain.predicate(a[0]) is not None)
+    return map_atoms | atoms
 
 
-def _contents(belief, facts, virtual, keep, domain):
-    """(atoms, values, objects, seen, robot_wp, removal) of the problem ``write`` builds."""
+def _contents(belief, facts, virtual, keep, domain, with_map=True):
+    """(atoms, values, objects, seen, robot_wp, removal) of the problem ``write`` builds;
+    ``with_map`` False leaves out the map's atoms and distances (``_map_part``)."""
     robot_wp = robot_waypoint(facts, belief)
     removal = removal_choices(facts, belief, robot_wp)
     seen = [k for k in belief.untidied() if keep is None or k.name in keep]
@@ -203,9 +209,10 @@ def _contents(belief, facts, virtual, keep, domain):
     for w, p in p_near.items():
         atoms.append(("unexplored", w))
         values.append(("p-item-near", (w,), p))
-    map_atoms, map_values = _map_part(facts)
-    atoms += map_atoms
-    values += map_values
+    if with_map:
+        map_atoms, map_values = _map_part(facts)
+        atoms += map_atoms
+        values += map_values
     objects = [(n, "waypoint") for n in sorted(facts.points)] + [(k.name, "item") for k in seen]
     objects += [(d.name, "deposit") for d in deposits] + [(c, "category") for c in categories]
     named = {n for n, _ in objects} | {v for v, _ in virtual}
@@ -222,6 +229,25 @@ def _contents(belief, facts, virtual, keep, domain):
 
 
 _MAP_PARTS: dict[int, tuple[MapFacts, list, list]] = {}  # id(facts) -> (facts, atoms, values)
+_MAP_SETS: dict[int, tuple[MapFacts, frozenset]] = {}  # id(facts) -> (facts, its atoms as a set)
+_MAP_PREDICATES = ("path", "blocked", "blocks", "pose-adjustment")  # the atoms _map_part writes
+
+
+def _map_set(facts: MapFacts) -> frozenset:
+    """``_map_part``'s atoms as a set, unsorted (sorting a 96-object room's paths and blockers
+    for each new map was a twentieth of a mission); kept like the parts."""
+    hit = _MAP_SETS.get(id(facts))
+    if hit is not None and hit[0] is facts:
+        return hit[1]
+    atoms = {("path", u, v) for u, v in facts.path}
+    atoms.update(("path", u, v) for u, v in facts.blocked)
+    atoms.update(("blocked", u, v) for u, v in facts.blocked)
+    atoms.update(("blocks", item, u, v) for item, u, v in facts.blocks)
+    atoms.update(("pose-adjustment", u, v) for u, v in facts.adjust)
+    if len(_MAP_SETS) >= 4:
+        _MAP_SETS.clear()
+    _MAP_SETS[id(facts)] = (facts, frozenset(atoms))
+    return _MAP_SETS[id(facts)][1]
 
 
 def _map_part(facts: MapFacts) -> tuple[list, list]:
