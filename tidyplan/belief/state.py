@@ -260,9 +260,11 @@ class Belief:
             name = self._add(d)
             matched.add(name)
             update.new.append(name)
+        boxes = None  # the believed items as occluders, built once for this look's misses
         for k in self.untidied():
-            if k.state != "placed" or k.name in matched or not self.should_see(k, at):
+            if k.state != "placed" or k.name in matched:
                 continue
+            # the frame's field and the stops first: they are cheap, the line of sight is not
             if (
                 wedge
                 and not self._in_frame(at, frame.heading, *self._xyz(k), miss=True, tilt=frame.tilt_deg)[0]
@@ -273,10 +275,15 @@ class Belief:
                 and not in_stops(at, stops, self._xyz(k)[0], self.scenario.sensing.fov_h_deg, MISS_WIDTH)[0]
             ):
                 continue
+            if boxes is None:
+                boxes = self.item_boxes()
+            if not self.should_see(k, at, boxes):
+                continue
             k.misses += 1
             if k.misses >= FORGET_AFTER:
                 self.forget(k.name)
                 update.forgotten.append(k.name)
+                boxes = None  # a forgotten item hides nothing from the next
         return update
 
     def _add(self, d: Detection) -> str:
@@ -438,8 +445,9 @@ class Belief:
                 return name
         return None
 
-    def should_see(self, k: Known, at: Point | None = None) -> bool:
-        """Would a look from ``at`` (default: where the robot is) see k if it were there?"""
+    def should_see(self, k: Known, at: Point | None = None, boxes: list | None = None) -> bool:
+        """Would a look from ``at`` (default: where the robot is) see k if it were there?
+        ``boxes``: ``item_boxes()``, for a caller asking of many items in one state."""
         at = self.robot if at is None else at
         s = self.scenario.sensing
         z = self._z(k)
@@ -451,9 +459,9 @@ class Belief:
         if math.degrees(math.atan2(s.camera_height - z, across)) > s.look_down_deg:
             return False
         # Furniture, and the items it knows of, may hide k: a miss behind them is no evidence.
-        occ = [b for b in self._occluders if b.name != k.on] + [
-            self._box3(o) for o in self.untidied() if o.state == "placed" and o is not k
-        ]
+        if boxes is None:
+            boxes = self.item_boxes()
+        occ = [b for b in self._occluders if b.name != k.on] + [b for o, b in boxes if o is not k]
         return visible(self._camera(at), (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max)
 
     def _z(self, k: Known) -> float:
@@ -484,6 +492,10 @@ class Belief:
             self._camera(at), self._targets[field], self._occluders, support,
             range_min=s.range_min, range_max=s.range_max,
         )  # fmt: skip
+
+    def item_boxes(self) -> list[tuple[Known, Box3]]:
+        """The untidied items believed in place, with their boxes: what may hide another."""
+        return [(o, self._box3(o)) for o in self.untidied() if o.state == "placed"]
 
     def _box3(self, k: Known) -> Box3:
         return Box3.from_item(k, 0.0 if k.on == "floor" else self.scenario.furniture_named(k.on).height)

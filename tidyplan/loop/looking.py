@@ -73,11 +73,14 @@ class Excursions:
         belief = self.belief
         facts = belief.facts()
         here = robot_waypoint(facts, belief)
+        boxes = belief.item_boxes()
         for k in belief.untidied():
             if k.state != "placed" or went[k.name] >= most:
                 continue
             views = [
-                w for w, q in facts.points.items() if (here, w) in facts.path and belief.should_see(k, q)
+                w
+                for w, q in facts.points.items()
+                if (here, w) in facts.path and belief.should_see(k, q, boxes)
             ]
             if not views:
                 continue

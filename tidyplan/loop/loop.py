@@ -370,7 +370,8 @@ class Mission:
 
     def _worth_looking(self) -> bool:
         """A look can change the belief: some believed item is in view and could be missed."""
-        return any(self.belief.should_see(k) for k in self._open() if k.state == "placed")
+        boxes = self.belief.item_boxes()
+        return any(self.belief.should_see(k, None, boxes) for k in self._open() if k.state == "placed")
 
     def _action_cap(self) -> int:
         told = sum(self.belief.prior.values()) if self.belief.prior is not None else 0
