@@ -120,7 +120,15 @@ def visible_points(
     d = targets - p  # (N, 3)
     dist = np.linalg.norm(d, axis=1)
     seen = (dist >= range_min) & (dist <= range_max)
-    names = np.asarray(support, dtype=object)
+    # the occluders are tested on the targets in range only (in a long room most are not)
+    (within,) = np.nonzero(seen)
+    seen[within] = _unoccluded(p, d[within], occluders, np.asarray(support, dtype=object)[within])
+    return seen
+
+
+def _unoccluded(p: np.ndarray, d: np.ndarray, occluders: Sequence[Box3], names: np.ndarray) -> np.ndarray:
+    """For each segment p -> p + d[n]: whether no occluder but the one named names[n] meets it."""
+    seen = np.ones(len(d), dtype=bool)
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = 1.0 / d
     parallel = d == 0.0
