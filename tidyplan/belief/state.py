@@ -55,6 +55,7 @@ ROUND_STEP = 0.6  # m: each new round's viewpoints see this much less far (at le
 # the chance a viewpoint at a forgotten item's place reveals it: seen there, then not (no figure
 # measured; above any share of the room's unseen space a viewpoint holds after a round's reset)
 P_AT_FORGOTTEN = 0.5
+SEEN_FROM_KEPT = 4  # poses an item was seen from, kept with it (Known.seen_from)
 FORGOTTEN_FROM = 0.9  # m: the nearest a viewpoint at a forgotten item's place stands (a sweep's floor
 # frame starts about 0.6 m out)
 
@@ -77,6 +78,9 @@ class Known:
     deposit: str | None = None
     spread: float = 0.0  # m it may lie from (x, y): 0 where seen; more where it fell unseen
     oriented: bool = False  # an orientation item (the detector reported its down end)
+    # where the camera stood when it found or confirmed the item, the latest last (a few kept):
+    # a pose known to show it, for the looks after it is forgotten
+    seen_from: list[Point] = field(default_factory=list)
 
     def placed(self) -> Placed:
         return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0)
@@ -252,12 +256,14 @@ class Belief:
                 k.oriented = d.down is not None  # what the detector says of it now (relocate)
                 matched.add(k.name)
                 update.confirmed.append(k.name)
+                _saw(k, at)
                 continue
             under = self._under(d)
             if under is not None:
                 update.overlapping.append(under.name)
                 continue
             name = self._add(d)
+            _saw(self.items[name], at)
             matched.add(name)
             update.new.append(name)
         boxes = None  # the believed items as occluders, built once for this look's misses
@@ -591,33 +597,44 @@ class Belief:
         had hidden (the belief's boxes occlude less than the world's furniture: wrs-task1-s007, a
         shape seen three times beside a tall table, then missed by three frames and forgotten,
         and never seen again from the viewpoints, whose cover of the map said they showed it).
-        Each round one more, from another side: the free cell nearest the place, at least
-        FORGOTTEN_FROM m from it, from which it is in view, and not near a viewpoint there is."""
+        Each round one more, from another side, not near a viewpoint that shows it, and from which the
+        item itself would be seen there (``should_see``: not a cell that sees only the floor
+        around it, over a table that hides it): the latest pose it was seen from, else the free
+        cell nearest the place at least FORGOTTEN_FROM m from it. In wrs-task1-s106 a box behind
+        a tall table, between a chair and two walls, was in sight of no cell near it but from
+        the pose its first sweep found it from."""
         if self.prior is None:
             return []
         have = Counter(k.category for k in self.items.values())
         lacking = {c for c in self.categories if self.prior[c] > have[c]}
         kinds = self.room.fixed_kind
         taken = [q for n, q in self.room.fixed.items() if kinds[n] in ("viewpoint", "entrance")]
-        cells = viewpoints.lattice(self.room.grid(()).free_cells(reachable_from=self.room.entrance), 0.2)
-        pts = self._targets[:, :2]
+        grid = self.room.grid(())
+        cells = viewpoints.lattice(grid.free_cells(reachable_from=self.room.entrance), 0.2)
         names = []
+        boxes = self.item_boxes()
         for name, k in sorted(self._forgotten.items()):
             if k.category not in lacking or name in self.items:
                 continue
-            near = np.hypot(pts[:, 0] - k.x, pts[:, 1] - k.y) <= 0.25
-            if not near.any():
-                continue
-            options = sorted(
-                (math.dist(c, (k.x, k.y)), c)
-                for c in cells
-                if math.dist(c, (k.x, k.y)) >= FORGOTTEN_FROM
-                and all(math.dist(c, q) > 0.5 for q in taken)
-                and (self._view(c) & near).any()
-            )
+            # near a viewpoint that shows it there is no new one; beside one too close to show it
+            # (the camera cannot look that far down) there may be
+            showing = [q for q in taken if self.should_see(k, q, boxes)]
+            shown = [
+                grid.nearest_free(*at, reachable_from=self.room.entrance) for at in reversed(k.seen_from)
+            ]
+            options = [c for c in shown if _away(c, showing) and self.should_see(k, c, boxes)] or [
+                c
+                for _, c in sorted(
+                    (math.dist(c, (k.x, k.y)), c)
+                    for c in cells
+                    if math.dist(c, (k.x, k.y)) >= FORGOTTEN_FROM
+                    and _away(c, showing)
+                    and self.should_see(k, c, boxes)
+                )
+            ]
             if not options:
                 continue
-            q = options[0][1]
+            q = options[0]
             vp = f"vp-map-{sum(v == 'viewpoint' for v in kinds.values()) + 1}"
             self.room.add_viewpoint(vp, q)
             self.at_forgotten[vp] = k.name
@@ -674,3 +691,15 @@ class Belief:
                 range_min=s.range_min, range_max=reach,
             )  # fmt: skip
         return self._view_cache[key]
+
+
+def _saw(k: Known, at: Point) -> None:
+    """Remember that a look from ``at`` showed k (the last SEEN_FROM_KEPT places, no repeats)."""
+    if not k.seen_from or math.dist(k.seen_from[-1], at) > 0.1:
+        k.seen_from.append((float(at[0]), float(at[1])))
+        del k.seen_from[:-SEEN_FROM_KEPT]
+
+
+def _away(c: Point, points: list[Point]) -> bool:
+    """Whether c is more than 0.5 m from every one of ``points`` (a viewpoint of its own)."""
+    return all(math.dist(c, q) > 0.5 for q in points)
