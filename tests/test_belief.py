@@ -56,14 +56,14 @@ def test_a_round_of_exploration_looks_from_beside_where_a_missing_item_was_forgo
     belief, toy = _belief_with_a_puzzle()
     belief.forget(toy)
     assert ("unseen-toy-1", "toy") in belief.virtual()
-    belief.seen[:] = True  # all of it seen: the next step is a new round
-    first = [v for v in belief.explore_again() if belief.at_forgotten.get(v) == toy]
+    belief.exploration.seen[:] = True  # all of it seen: the next step is a new round
+    first = [v for v in belief.explore_again() if belief.exploration.at_forgotten.get(v) == toy]
     assert len(first) == 1
     q = belief.room.fixed[first[0]]
     assert 0.9 <= math.dist(q, (1.5, 1.5)) <= 1.3
-    assert belief.p_item_near(belief.facts())[first[0]] >= 0.5
-    belief.looked_from.add(first[0])
-    second = [v for v in belief.explore_again() if belief.at_forgotten.get(v) == toy]
+    assert belief.exploration.p_item_near(belief.facts())[first[0]] >= 0.5
+    belief.exploration.looked_from.add(first[0])
+    second = [v for v in belief.explore_again() if belief.exploration.at_forgotten.get(v) == toy]
     assert len(second) == 1 and math.dist(belief.room.fixed[second[0]], q) > 0.5  # another side
 
 
@@ -71,9 +71,9 @@ def test_no_viewpoint_for_a_forgotten_item_whose_category_is_all_found():
     belief, toy = _belief_with_a_puzzle()
     belief.forget(toy)
     belief.observe([Detection("toy", 2.2, 2.4, "floor", 0.08, 0.08, 0.06)], None)  # the toy, elsewhere
-    belief.seen[:] = True
+    belief.exploration.seen[:] = True
     belief.explore_again()
-    assert belief.at_forgotten == {}
+    assert belief.exploration.at_forgotten == {}
 
 
 def test_an_item_found_where_another_believed_item_lies_is_that_item_not_two():
@@ -103,7 +103,7 @@ def test_a_forgotten_item_is_looked_for_from_where_it_is_in_sight_not_behind_a_t
     name = belief.observe([Detection("task", *place, "floor", 0.091, 0.079, 0.064)], None).new[0]
     known = belief.items[name]
     belief.forget(name)
-    belief.seen[:] = True
+    belief.exploration.seen[:] = True
     table = next(f for f in scenario.furniture if f.name == "tall-table")
     hidden = Box3.from_furniture(table)
     camera = lambda q: (q[0], q[1], scenario.sensing.camera_height)  # noqa: E731
@@ -111,18 +111,18 @@ def test_a_forgotten_item_is_looked_for_from_where_it_is_in_sight_not_behind_a_t
     kinds = belief.room.fixed_kind
     taken = [q for n, q in belief.room.fixed.items() if kinds[n] in ("viewpoint", "entrance")]
     cells = viewpoints.lattice(belief.room.grid(()).free_cells(reachable_from=belief.room.entrance), 0.2)
-    pts = belief._targets[:, :2]
+    pts = belief.exploration.targets[:, :2]
     near = np.hypot(pts[:, 0] - place[0], pts[:, 1] - place[1]) <= 0.25
     loose = min(
         (math.dist(c, place), c)
         for c in cells
         if math.dist(c, place) >= FORGOTTEN_FROM
         and all(math.dist(c, q) > 0.5 for q in taken)
-        and (belief._view(c) & near).any()
+        and (belief.exploration.view(c) & near).any()
     )[1]
     target = (*place, 0.05)
     assert not visible(camera(loose), target, [hidden], range_min=0.0, range_max=10.0)  # the case
-    added = [v for v in belief.explore_again() if belief.at_forgotten.get(v) == name]
+    added = [v for v in belief.explore_again() if belief.exploration.at_forgotten.get(v) == name]
     assert len(added) == 1
     q = belief.room.fixed[added[0]]
     assert visible(camera(q), target, [hidden], range_min=0.0, range_max=10.0)
@@ -140,8 +140,8 @@ def test_a_forgotten_item_is_looked_for_first_from_where_a_look_once_showed_it()
         belief.robot = robot
         name = belief.observe([Detection("task", *place, "floor", 0.091, 0.079, 0.064)], None).new[0]
         belief.forget(name)
-        belief.seen[:] = True
-        added = [v for v in belief.explore_again() if belief.at_forgotten.get(v) == name]
+        belief.exploration.seen[:] = True
+        added = [v for v in belief.explore_again() if belief.exploration.at_forgotten.get(v) == name]
         return belief, belief.items.get(name) or belief._forgotten[name], added
 
     # seen from the entrance (too far to show it again): the nearest cell that shows it

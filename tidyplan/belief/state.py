@@ -10,11 +10,9 @@ and bridge the gap with assumptions over virtual objects. For the tidy-up room t
   assumes one more item of each deposit's category while some of the room is still unseen
   (docs/scenario.md). The true items are never read: the belief is built from the scenario
   without them (``Scenario.without_items``);
-- where an unseen item may be: the placement points (floor and table tops) nobody has seen yet.
-  A viewpoint's chance of revealing an unseen item is the share of those points it sees, under
-  a uniform prior (``p_item_near``). Viewpoints are added from the map where the scenario's do
-  not cover the room (``tidyplan.belief.viewpoints``), and more, closer ones in a new round of
-  exploration when expected items were not found;
+- where an unseen item may be: the placement points nobody has seen yet, and the viewpoints to
+  see them from, are the exploration's (``tidyplan.belief.exploration``), which the belief owns
+  and tells what each look showed;
 - what the robot did: waypoints reached (Algorithm 1 needs them), looks taken, moves that
   found their way blocked.
 
@@ -33,8 +31,9 @@ import numpy as np
 
 from sim.grid import Box
 from sim.scenario.model import DrawerLayout, Scenario, drawer_layout, out_boxes
-from sim.visibility import GLANCE_TILT_DEG, Box3, in_frame, visible, visible_points
+from sim.visibility import GLANCE_TILT_DEG, Box3, in_frame, visible
 from tidyplan.belief import viewpoints
+from tidyplan.belief.exploration import LOST_RADIUS, Exploration
 from tidyplan.belief.geometry import ENTRANCE, MapFacts, Placed, RoomMap
 from tidyplan.belief.percepts import MISS_EDGE_DEG, MISS_WIDTH, SWEEP_STOPS, Detection, Frame, in_stops
 
@@ -47,14 +46,6 @@ FORGET_AFTER = 3  # looks in a row that should have seen an item and did not: it
 # m: a confirmed item seen this far from where it was believed has been moved there (and the grasp
 # pose kept for its old place is chosen again)
 MOVED = 0.03
-POINT_SPACING = 0.10  # m between placement points
-UNEXPLORED_SHARE = 0.02  # a viewpoint that would reveal less of the unseen space is explored
-LOST_RADIUS = 1.0  # m around where a lost item was (fell, knocked, not found) it is looked for again
-EXPLORATION_ROUNDS = 3  # rounds of exploration after the first, each from closer viewpoints
-ROUND_STEP = 0.6  # m: each new round's viewpoints see this much less far (at least 1.5 m)
-# the chance a viewpoint at a forgotten item's place reveals it: seen there, then not (no figure
-# measured; above any share of the room's unseen space a viewpoint holds after a round's reset)
-P_AT_FORGOTTEN = 0.5
 SEEN_FROM_KEPT = 4  # poses an item was seen from, kept with it (Known.seen_from)
 FORGOTTEN_FROM = 0.9  # m: the nearest a viewpoint at a forgotten item's place stands (a sweep's floor
 # frame starts about 0.6 m out)
@@ -107,13 +98,11 @@ class Belief:
         self.prior = scenario.prior_counts()  # None: told nothing, explore the whole room
         told = self.prior if self.prior is not None else {d.category for d in scenario.deposits}
         self.categories = sorted(told)
-        self.rounds = 0  # rounds of exploration after the first
         self.items: dict[str, Known] = {}
         self.robot: Point = room.entrance
         self.robot_wp = ENTRANCE  # the waypoint the robot last reached: its name for the planner
         self.holding: str | None = None
         self.reached: set[str] = {ENTRANCE}
-        self.looked_from: set[str] = set()
         # Atoms of the domain's predicates no sensor reports (must-move-back, a user's own): the
         # scenario's facts to start with, then kept by the effects of the actions executed
         self.memory: set[tuple[str, ...]] = set(scenario.facts)
@@ -133,17 +122,12 @@ class Belief:
         self.blocked_moves: set[tuple[Point, Point]] = set()
         # (item place, robot pose): a close look from that pose did not find the item there
         self.failed_poses: list[tuple[Point, Point]] = []
-        self.scene_changed = False  # an item left the floor since exploration was last reset
         self._serial: Counter[str] = Counter()
         self._forgotten: dict[str, Known] = {}  # seen again near where it was: same name
-        self.at_forgotten: dict[str, str] = {}  # viewpoint -> the forgotten item it was placed for
         self._occluders = [Box3.from_furniture(f) for f in scenario.furniture]
-        self.points, self._support = viewpoints.placement_points(scenario, POINT_SPACING)
-        self._targets = np.array(self.points, dtype=float).reshape(-1, 3)
-        self.seen = np.zeros(len(self.points), dtype=bool)
-        self._view_cache: dict[tuple, np.ndarray] = {}
         self._facts: tuple[tuple, MapFacts] | None = None
-        self.generated: list[str] = self._add_viewpoints(scenario.sensing.range_max)
+        # the space seen and the viewpoints to look from; it adds the map's viewpoints now
+        self.exploration = Exploration(self.scenario, room, self._occluders)
 
     # ------------------------------------------------------------------ what is (not) known
     def virtual(self) -> list[tuple[str, str]]:
@@ -161,7 +145,7 @@ class Belief:
 
     def explorable(self) -> bool:
         """Whether some viewpoint nobody has looked from would reveal unseen space."""
-        return bool(self.p_item_near(self.facts()))
+        return bool(self.exploration.p_item_near(self.facts()))
 
     def untidied(self) -> list[Known]:
         return sorted((k for k in self.items.values() if k.state != "tidied"), key=lambda k: k.name)
@@ -231,19 +215,9 @@ class Belief:
         update = Update()
         at = self.robot if frame is None else frame.at
         wedge = frame is not None and frame.heading is not None
-        if stops is not None:  # a sweep of some stops: what their frames show, at both tilts
-            self.seen |= self._view(at) & in_stops(
-                at, stops, self._targets[:, :2], self.scenario.sensing.fov_h_deg
-            )
-        elif not wedge:
-            self.seen |= self._view(at)
-        else:
-            field = self._in_frame(
-                at, frame.heading, self._targets[:, :2], self._targets[:, 2], tilt=frame.tilt_deg
-            )
-            self.seen[np.flatnonzero(field)[self._frame_view(at, field)]] = True
+        self.exploration.looked(at, frame, stops)
         if waypoint is not None:
-            self.looked_from.add(waypoint)
+            self.exploration.looked_from.add(waypoint)
         matched: set[str] = set()
         for d in detections:
             k = self._match(d, matched)
@@ -333,7 +307,7 @@ class Belief:
         k = self.items.get(name)
         if k is not None:
             self.unreached(name)
-            self.unsee((k.x, k.y), max(LOST_RADIUS, k.spread + 0.4))
+            self.exploration.unsee((k.x, k.y), max(LOST_RADIUS, k.spread + 0.4))
         self.forget(name)
 
     def unreached(self, name: str) -> None:
@@ -370,7 +344,7 @@ class Belief:
         k = self.items[name]
         k.state, self.holding = "held", name
         if k.on == "floor":
-            self.scene_changed = True
+            self.exploration.scene_changed = True
             self.blocked_moves.clear()  # the floor changed: old blockages may be gone
         self.sticky.pop(name, None)
 
@@ -384,8 +358,8 @@ class Belief:
         place not seen yet (the pick-up's check looks for it there)."""
         self.put(name, *near)
         self.items[name].spread = spread
-        self.scene_changed = True
-        self.unsee(near, spread + 0.4)  # a look for it covers where it may have rolled
+        self.exploration.scene_changed = True
+        self.exploration.unsee(near, spread + 0.4)  # a look for it covers where it may have rolled
 
     def relocate(
         self,
@@ -468,7 +442,8 @@ class Belief:
         if boxes is None:
             boxes = self.item_boxes()
         occ = [b for b in self._occluders if b.name != k.on] + [b for o, b in boxes if o is not k]
-        return visible(self._camera(at), (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max)
+        eye = self.exploration.camera(at)
+        return visible(eye, (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max)
 
     def _z(self, k: Known) -> float:
         """The height a look aims at: 5 cm above what k lies on."""
@@ -490,15 +465,6 @@ class Belief:
         width, edge = (MISS_WIDTH, MISS_EDGE_DEG) if miss else (1.0, 0.0)
         return in_frame(at, heading, xy, z, self.scenario.sensing, width, edge, tilt)
 
-    def _frame_view(self, at: Point, field: np.ndarray) -> np.ndarray:
-        """Of the placement points in a frame's ``field``, those in range and line of sight."""
-        s = self.scenario.sensing
-        support = [self._support[n] for n in np.flatnonzero(field)]
-        return visible_points(
-            self._camera(at), self._targets[field], self._occluders, support,
-            range_min=s.range_min, range_max=s.range_max,
-        )  # fmt: skip
-
     def item_boxes(self) -> list[tuple[Known, Box3]]:
         """The untidied items believed in place, with their boxes: what may hide another."""
         return [(o, self._box3(o)) for o in self.untidied() if o.state == "placed"]
@@ -507,30 +473,8 @@ class Belief:
         return Box3.from_item(k, 0.0 if k.on == "floor" else self.scenario.furniture_named(k.on).height)
 
     # ------------------------------------------------------------------ exploration
-    # Where the items nobody has seen may be, and where to look for them: the room's placement
-    # points (floor and table tops) are seen or not yet seen; a viewpoint nobody has looked from
-    # reveals an unseen item with the share of unseen points it shows (Goebelbecker et al.'s
-    # assumption probability under a uniform prior). Viewpoints are generated from the map where
-    # the scenario's do not cover the room, and closer ones in each new round when expected items
-    # were not found; a lost item's surroundings are marked unseen so it is looked for there.
-
-    def p_item_near(self, facts: MapFacts) -> dict[str, float]:
-        """For each viewpoint nobody looked from: the chance that an unseen item is revealed from
-        it, the share of unseen placement points in its view."""
-        unseen = ~self.seen
-        total = int(unseen.sum())
-        out: dict[str, float] = {}
-        if total == 0:
-            return out
-        for name, kind in sorted(facts.kind.items()):
-            if kind != "viewpoint" or name in self.looked_from:
-                continue
-            share = float((self._view(facts.points[name]) & unseen).sum()) / total
-            if name in self.at_forgotten:  # where a missing item was seen: likelier than anywhere
-                share = max(share, P_AT_FORGOTTEN)
-            if share >= UNEXPLORED_SHARE:
-                out[name] = round(share, 4)
-        return out
+    # What of the room has been seen and where to look is the exploration's (exploration.py);
+    # what it means for the items nobody has found is the belief's.
 
     def look_finds(self, at: Point) -> float:
         """How many of the items nobody has found (the virtual objects) a sweep from ``at`` is
@@ -539,12 +483,10 @@ class Belief:
         after every action, for the trace's ``why``: without a prior it counts one per category
         while some space is unseen (as ``virtual``) without ``virtual``'s map facts, which the
         action has made stale."""
-        unseen = ~self.seen
-        missing, total = self._missing(), int(unseen.sum())
-        if missing == 0 or total == 0:
+        missing = self._missing()
+        if missing == 0:
             return 0.0
-        share = float((self._view(at) & unseen).sum()) / total
-        return missing * share * (1.0 - self.scenario.sensing.false_negative)
+        return missing * self.exploration.unseen_share(at) * (1.0 - self.scenario.sensing.false_negative)
 
     def _missing(self) -> int:
         """How many items nobody has found: the prior's count less those known, or one per
@@ -558,37 +500,20 @@ class Belief:
         """For each of a sweep's stops (SWEEP_STOPS): its heading and the items nobody has found
         that its frames are expected to find (``look_finds``, of the part of the view nearer that
         stop's heading than any other's, so that the stops' finds add up to the sweep's)."""
-        unseen = ~self.seen
-        missing, total = self._missing(), int(unseen.sum())
-        if missing == 0 or total == 0:
+        missing = self._missing()
+        if missing == 0:
             return [(h, 0.0) for h in SWEEP_STOPS]
-        shown = self._view(at) & unseen
-        xy = self._targets[:, :2]
-        bearing = np.arctan2(xy[:, 1] - at[1], xy[:, 0] - at[0]) % (2 * math.pi)
-        nearest = np.rint(bearing / (2 * math.pi / len(SWEEP_STOPS))).astype(int) % len(SWEEP_STOPS)
         hit = 1.0 - self.scenario.sensing.false_negative
-        return [
-            (h, missing * float((shown & (nearest == i)).sum()) / total * hit)
-            for i, h in enumerate(SWEEP_STOPS)
-        ]
-
-    def reset_exploration(self) -> None:
-        """Forget what was seen: the floor changed, so views that were blocked may be open now."""
-        self.seen[:] = False
-        self.looked_from.clear()
-        self.scene_changed = False
+        return [(h, missing * share * hit) for h, share in self.exploration.stop_shares(at)]
 
     def explore_again(self) -> list[str] | None:
-        """A new round of exploration, when the prior names items nobody has found and the whole
-        room has been seen: look again from everywhere (a look misses a visible item at the
-        false-negative rate), and from new viewpoints that see less far, so closer to every
-        place. Returns the viewpoints added, None when the rounds are used up."""
-        if self.rounds >= EXPLORATION_ROUNDS:
+        """A new round of exploration (``Exploration.new_round``), when the prior names items
+        nobody has found and the whole room has been seen, with a viewpoint at each forgotten
+        item's place. Returns the viewpoints added, None when the rounds are used up."""
+        added = self.exploration.new_round()
+        if added is None:
             return None
-        self.rounds += 1
-        self.reset_exploration()
-        s = self.scenario.sensing
-        added = self._add_viewpoints(max(s.range_min + 0.7, s.range_max - ROUND_STEP * self.rounds))
+        self._facts = None  # the map has new viewpoints
         return added + self._viewpoints_at_forgotten()
 
     def _viewpoints_at_forgotten(self) -> list[str]:
@@ -607,8 +532,7 @@ class Belief:
             return []
         have = Counter(k.category for k in self.items.values())
         lacking = {c for c in self.categories if self.prior[c] > have[c]}
-        kinds = self.room.fixed_kind
-        taken = [q for n, q in self.room.fixed.items() if kinds[n] in ("viewpoint", "entrance")]
+        taken = self.exploration.taken()
         grid = self.room.grid(())
         cells = viewpoints.lattice(grid.free_cells(reachable_from=self.room.entrance), 0.2)
         names = []
@@ -634,63 +558,11 @@ class Belief:
             ]
             if not options:
                 continue
-            q = options[0]
-            vp = f"vp-map-{sum(v == 'viewpoint' for v in kinds.values()) + 1}"
-            self.room.add_viewpoint(vp, q)
-            self.at_forgotten[vp] = k.name
-            taken.append(q)
-            names.append(vp)
+            taken.append(options[0])
+            names.append(self.exploration.add_viewpoint(options[0], forgotten=k.name))
         if names:
             self._facts = None
         return names
-
-    def _add_viewpoints(self, reach: float) -> list[str]:
-        """Viewpoints from the map for what the existing ones (and the entrance) do not show
-        within ``reach`` m; registered with the room map so that the planner sees them."""
-        kinds = self.room.fixed_kind
-        fixed = [q for n, q in self.room.fixed.items() if kinds[n] in ("viewpoint", "entrance")]
-        covered = np.zeros(len(self.points), dtype=bool)
-        for q in fixed:
-            covered |= self._view(q, reach)
-        cells = self.room.grid(()).free_cells(reachable_from=self.room.entrance)
-        new = viewpoints.cover(viewpoints.lattice(cells), lambda q: self._view(q, reach), covered)
-        names = []
-        for q in new:
-            name = f"vp-map-{sum(k == 'viewpoint' for k in self.room.fixed_kind.values()) + 1}"
-            self.room.add_viewpoint(name, q)
-            names.append(name)
-        self._facts = None
-        return names
-
-    def unsee(self, near: Point, radius: float = LOST_RADIUS) -> None:
-        """Mark the placement points within ``radius`` of ``near`` unseen, and reopen the viewpoints
-        that show them: an item was lost there (it fell, was knocked, or was not where believed),
-        so that is where it is looked for."""
-        pts = self._targets[:, :2]
-        region = np.hypot(pts[:, 0] - near[0], pts[:, 1] - near[1]) <= radius
-        if not region.any():
-            return
-        self.seen &= ~region
-        for name in list(self.looked_from):
-            if name in self.room.fixed and (self._view(self.room.fixed[name]) & region).any():
-                self.looked_from.discard(name)
-
-    def _camera(self, p: Point) -> tuple[float, float, float]:
-        return (p[0], p[1], self.scenario.sensing.camera_height)
-
-    def _view(self, p: Point, reach: float | None = None) -> np.ndarray:
-        """Placement points in line of sight and range (at most ``reach`` m, default the camera's
-        range) from p (furniture occludes, items do not: the belief cannot know what unseen items
-        hide)."""
-        s = self.scenario.sensing
-        reach = s.range_max if reach is None else reach
-        key = (round(p[0], 3), round(p[1], 3), reach)
-        if key not in self._view_cache:
-            self._view_cache[key] = visible_points(
-                self._camera(p), self._targets, self._occluders, self._support,
-                range_min=s.range_min, range_max=reach,
-            )  # fmt: skip
-        return self._view_cache[key]
 
 
 def _saw(k: Known, at: Point) -> None:

@@ -4,7 +4,7 @@ Goebelbecker et al. search from a set of places the robot may look from, each wi
 that an object is revealed there. A scenario names a few; a room nobody tuned (a second room
 with no viewpoint, a corner behind a shelf) needs more. They are chosen here by a greedy cover:
 candidate poses on a lattice over the floor the robot can reach, each with the placement points
-(floor and table tops, ``Belief.points``) it sees within the camera's range with furniture
+(floor and table tops, ``Exploration.points``) it sees within the camera's range with furniture
 occluding; the pose that reveals most of what no chosen viewpoint reveals yet is added, until
 none adds a meaningful share. The probability each gets (``p-item-near``) is computed later,
 from what is still unseen, by the belief.

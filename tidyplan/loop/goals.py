@@ -32,7 +32,7 @@ def goals(belief: Belief, facts: MapFacts, against: Deadline | None = None) -> l
     plan on their own (``feasible``: nearest first in a room of more than HORIZON items, so the
     loop can stop once it has HORIZON of them)."""
     seen = [k.name for k in belief.untidied() if k.state == "held" or k.name in facts.grasp]
-    virtual = belief.virtual() if belief.p_item_near(facts) else []
+    virtual = belief.virtual() if belief.exploration.p_item_near(facts) else []
     # the drawers still closed, to be opened (the WRS rulebook's +50 for opening every drawer):
     # in the whole goal and the horizon, never in the narrower ones, which must not fail for them
     opens = sorted(d for d in belief.closed if d not in belief.undeliverable)

@@ -141,7 +141,7 @@ class Mission:
             domain=self._plain,
             expected=dict(self.belief.prior or {}),
             prior=self.belief.prior is not None,
-            generated_viewpoints={n: list(map(_r, self.belief.room.fixed[n])) for n in self.belief.generated},
+            generated_viewpoints={n: list(map(_r, self.belief.room.fixed[n])) for n in self.belief.exploration.generated},
             scenario=scenario.name,
             scenario_file=os.path.abspath(scenario.path) if os.path.isfile(scenario.path) else scenario.path,
             robot=list(map(_r, self.belief.robot)),
@@ -251,7 +251,7 @@ class Mission:
         if unfound:
             added = self.belief.explore_again()
             if added is not None:
-                rounds = self.belief.rounds
+                rounds = self.belief.exploration.rounds
                 self.trace.emit("explore_again", unseen=len(unfound), round=rounds, viewpoints=added)
                 return self._replan(Cause.PLAN_INVALID, f"{len(unfound)} items of the prior not found")
         if self._verified_at != self.count.actions:
@@ -313,8 +313,8 @@ class Mission:
             self._adopt(result, snap, problem, label)
             self._looks_left, self._unblocked = LOOKS_BEFORE_GIVING_UP, False
             return None
-        if self.belief.virtual() and self.belief.scene_changed:
-            self.belief.reset_exploration()  # items moved: views blocked before may be open now
+        if self.belief.virtual() and self.belief.exploration.scene_changed:
+            self.belief.exploration.reset()  # items moved: views blocked before may be open now
             self.trace.emit("explore_again", unseen=len(self.belief.virtual()))
             return self._replan(cause, why)
         if self.belief.blocked_moves and not self._unblocked:

@@ -39,7 +39,7 @@ def check_assumptions(pending, belief) -> list[tuple[object, bool, str]]:
         if known is not None:
             ok = facts.grasp.get(item) == w
             why = f"{a.text}: {item} is at {facts.grasp.get(item)}"
-        elif w in belief.looked_from:
+        elif w in belief.exploration.looked_from:
             ok, why = False, f"{a.text}: not seen from {w}"
         else:
             continue
