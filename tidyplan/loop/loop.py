@@ -141,7 +141,9 @@ class Mission:
             domain=self._plain,
             expected=dict(self.belief.prior or {}),
             prior=self.belief.prior is not None,
-            generated_viewpoints={n: list(map(_r, self.belief.room.fixed[n])) for n in self.belief.exploration.generated},
+            generated_viewpoints={
+                n: list(map(_r, self.belief.room.fixed[n])) for n in self.belief.exploration.generated
+            },
             scenario=scenario.name,
             scenario_file=os.path.abspath(scenario.path) if os.path.isfile(scenario.path) else scenario.path,
             robot=list(map(_r, self.belief.robot)),
