@@ -9,7 +9,7 @@ item's category becomes the bins it belongs in (``belongs``: every deposit accep
 category), so the problem has no categories. Every move is open: ``connected`` for every
 ordered pair of places with a path, at its length (2 decimals); nothing like tidy.pddl's
 ``(shortest-paths)``. The cost model is tidygen's (move = path length, pick 1, store 1), so
-``tidygen.optimum(seed)`` is this problem's optimum too.
+``tidygen.optimum(seed, seconds=False)`` is this problem's optimum too (in metres).
 """
 
 from __future__ import annotations

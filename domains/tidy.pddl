@@ -16,16 +16,17 @@
 ;; (Occam's razor, Eq. 1): a plan using stratum K+1 is chosen only when none within
 ;; strata 1..K exists. Within a stratum the planner minimises c(pi) + R(1 - p(pi)).
 ;;
-;; Costs: a move costs the path length k(x,y) in metres, given as (distance ?from ?to)
-;; in the problem; take, deliver and drop cost 1 each (the paper's action count).
-;; possible_ego_pose_adjustment also costs (distance ?from ?to): there it is the length
-;; of the adjustment. One function serves both, so a problem should not give a pair
-;; both a path and a pose adjustment of different lengths (tidy-p2 and
-;; tidy-strata-cheap give the adjusted pairs no path).
+;; Costs are the robot's expected time in seconds, so the cheapest plan is the fastest: a
+;; move costs (travel-time ?from ?to), which the problem gives (tidyplan writes the path
+;; length k(x,y) at the robot's speed, 0.22 m/s for the HSR, plus 0.8 s for the stop);
+;; possible_ego_pose_adjustment costs it too (a problem should not give a pair both a path
+;; and a pose adjustment of different times). A take costs 16.5 s, a delivery 12.8 s,
+;; opening a drawer 13.3 s and a drop 10.7 s: each action's mean in the pybullet HSR over 18
+;; WRS Task 1 rooms, failures and retries included (docs/results.md, bench/clock.py).
 ;; Probabilities are the success rates of the manipulation actions; moves are taken
 ;; as certain.
 ;;
-;; Static facts a problem provides: path, distance, blocks, blocks-pull, pose-adjustment,
+;; Static facts a problem provides: path, travel-time, blocks, blocks-pull, pose-adjustment,
 ;; removal-waypoint, deposit-at, of-category, accepts, unexplored, p-item-near, and
 ;; (shortest-paths) when no route via other waypoints is shorter than an open direct path
 ;; (nor joins two waypoints without one): moves then only go where the robot takes,
@@ -78,7 +79,7 @@
 
   (:functions
     (total-cost) - number
-    (distance ?from ?to - waypoint) - number     ; path length k(x,y), metres
+    (travel-time ?from ?to - waypoint) - number  ; seconds along the path k(x,y)
     (p-item-near ?w - waypoint) - number)        ; P(an unseen item is found from ?w)
 
   ;; ------------------------------------------------------------- assumption
@@ -102,7 +103,7 @@
                        (not (blocked ?from ?to))
                        (not (must-move-back))
                        (not (= ?from ?to))
-                       ;; Where the problem says its distances are shortest paths, a stop
+                       ;; Where the problem says its travel times are shortest, a stop
                        ;; at an idle waypoint never pays: the robot moves only to where it
                        ;; has something to do. That cuts the states a cost-optimal search
                        ;; visits on 12-object problems from 573k to 98k (docs/planner.md).
@@ -116,7 +117,7 @@
                            (exists (?x - waypoint) (pose-adjustment ?to ?x))))
     :effect (and (robot-at ?to)
                  (not (robot-at ?from))
-                 (increase (total-cost) (distance ?from ?to))))
+                 (increase (total-cost) (travel-time ?from ?to))))
 
   (:action take_object
     :parameters (?o - item ?w - waypoint)
@@ -133,7 +134,7 @@
                  ;; and the way the base backs off to pull a drawer open
                  (forall (?d - deposit)
                    (when (blocks-pull ?o ?d) (not (pull-blocked ?d))))
-                 (increase (total-cost) 1)))
+                 (increase (total-cost) 16.5)))
 
   (:action deliver_it
     :parameters (?o - item ?d - deposit ?w - waypoint ?c - category)
@@ -149,7 +150,7 @@
     :effect (and (tidied ?o)
                  (hand-empty)
                  (not (holding ?o))
-                 (increase (total-cost) 1)))
+                 (increase (total-cost) 12.8)))
 
   ;; A drawer is pulled open by its handle from where items are put into it, the hand free: the
 ;; base backs off along the slide as the drawer comes out, so a floor item in that way must be
@@ -162,7 +163,7 @@
     :precondition (and (robot-at ?w) (deposit-at ?d ?w) (closed ?d) (hand-empty)
                        (not (pull-blocked ?d)))
     :effect (and (not (closed ?d))
-                 (increase (total-cost) 1)))
+                 (increase (total-cost) 13.3)))
 
   ;; ------------------------------------------------------------- stratum 2 (P2)
   (:action possible_ego_pose_adjustment
@@ -174,7 +175,7 @@
                        (not (must-move-back)))
     :effect (and (robot-at ?to)
                  (not (robot-at ?from))
-                 (increase (total-cost) (distance ?from ?to))))
+                 (increase (total-cost) (travel-time ?from ?to))))
 
   ;; ------------------------------------------------------------- stratum 3 (P3)
   (:action drop_object
@@ -187,7 +188,7 @@
                  (hand-empty)
                  (not (holding ?o))
                  (must-move-back)
-                 (increase (total-cost) 1)))
+                 (increase (total-cost) 10.7)))
 
   (:action move_back
     :parameters (?from ?to - waypoint)
@@ -201,4 +202,4 @@
     :effect (and (robot-at ?to)
                  (not (robot-at ?from))
                  (not (must-move-back))
-                 (increase (total-cost) (distance ?from ?to)))))
+                 (increase (total-cost) (travel-time ?from ?to)))))

@@ -4,24 +4,25 @@
 ;; wall, y along the 4 m one; deposits along the x = 0 wall, entrance at (3.0, 0.5)).
 ;; Only stratum 1 (P1 = take_object, move, deliver_it) is needed.
 ;;
-;; Expected optimal plan (c = 14.69 m of moves + 8 manipulations = 22.69):
-;;   move wp-entrance wp-o1         1.12
-;;   take_object o1 wp-o1           1
-;;   move wp-o1 wp-tray             1.32
-;;   deliver_it o1 tray1 wp-tray food                1
-;;   move wp-tray wp-o2             2.14
-;;   take_object o2 wp-o2           1
-;;   move wp-o2 wp-container        1.73
-;;   deliver_it o2 container-a wp-container kitchen  1
-;;   move wp-container wp-o4        2.42
-;;   take_object o4 wp-o4           1
-;;   move wp-o4 wp-container        2.42
-;;   deliver_it o4 container-a wp-container kitchen  1
-;;   move wp-container wp-o3        1.35
-;;   take_object o3 wp-o3           1
-;;   move wp-o3 wp-tray             2.19
-;;   deliver_it o3 tray1 wp-tray food                1
-;; p = 0.95^4 * 0.98^4 = 0.7513 (every plan has it), c + 1000(1 - p) = 271.42.
+;; Expected optimal plan (costs in seconds: c = 73.17 s of moves + 117.2 s of takes and
+;; deliveries = 190.37):
+;;   move wp-entrance wp-o1         5.89
+;;   take_object o1 wp-o1           16.5
+;;   move wp-o1 wp-tray             6.80
+;;   deliver_it o1 tray1 wp-tray food                12.8
+;;   move wp-tray wp-o2             10.53
+;;   take_object o2 wp-o2           16.5
+;;   move wp-o2 wp-container        8.66
+;;   deliver_it o2 container-a wp-container kitchen  12.8
+;;   move wp-container wp-o4        11.80
+;;   take_object o4 wp-o4           16.5
+;;   move wp-o4 wp-container        11.80
+;;   deliver_it o4 container-a wp-container kitchen  12.8
+;;   move wp-container wp-o3        6.94
+;;   take_object o3 wp-o3           16.5
+;;   move wp-o3 wp-tray             10.75
+;;   deliver_it o3 tray1 wp-tray food                12.8
+;; p = 0.95^4 * 0.98^4 = 0.7513 (every plan has it), c + 1000(1 - p) = 439.10.
 ;; Checked with Fast Downward astar(lmcut()) on a stripped copy, and `tidyplan plan
 ;; --planner optimal`.
 
@@ -40,48 +41,49 @@
     (of-category o2 kitchen) (of-category o4 kitchen)
     (deposit-at tray1 wp-tray) (accepts tray1 food)
     (deposit-at container-a wp-container) (accepts container-a kitchen)
-    ;; known collision-free paths h(x,y) and their lengths k(x,y) in metres
-    (path wp-entrance wp-tray) (= (distance wp-entrance wp-tray) 2.40)
-    (path wp-entrance wp-container) (= (distance wp-entrance wp-container) 2.86)
-    (path wp-entrance wp-o1) (= (distance wp-entrance wp-o1) 1.12)
-    (path wp-entrance wp-o2) (= (distance wp-entrance wp-o2) 2.09)
-    (path wp-entrance wp-o3) (= (distance wp-entrance wp-o3) 3.04)
-    (path wp-entrance wp-o4) (= (distance wp-entrance wp-o4) 2.91)
-    (path wp-tray wp-entrance) (= (distance wp-tray wp-entrance) 2.40)
-    (path wp-tray wp-container) (= (distance wp-tray wp-container) 1.00)
-    (path wp-tray wp-o1) (= (distance wp-tray wp-o1) 1.32)
-    (path wp-tray wp-o2) (= (distance wp-tray wp-o2) 2.14)
-    (path wp-tray wp-o3) (= (distance wp-tray wp-o3) 2.19)
-    (path wp-tray wp-o4) (= (distance wp-tray wp-o4) 3.04)
-    (path wp-container wp-entrance) (= (distance wp-container wp-entrance) 2.86)
-    (path wp-container wp-tray) (= (distance wp-container wp-tray) 1.00)
-    (path wp-container wp-o1) (= (distance wp-container wp-o1) 1.77)
-    (path wp-container wp-o2) (= (distance wp-container wp-o2) 1.73)
-    (path wp-container wp-o3) (= (distance wp-container wp-o3) 1.35)
-    (path wp-container wp-o4) (= (distance wp-container wp-o4) 2.42)
-    (path wp-o1 wp-entrance) (= (distance wp-o1 wp-entrance) 1.12)
-    (path wp-o1 wp-tray) (= (distance wp-o1 wp-tray) 1.32)
-    (path wp-o1 wp-container) (= (distance wp-o1 wp-container) 1.77)
-    (path wp-o1 wp-o2) (= (distance wp-o1 wp-o2) 1.55)
-    (path wp-o1 wp-o3) (= (distance wp-o1 wp-o3) 2.24)
-    (path wp-o1 wp-o4) (= (distance wp-o1 wp-o4) 2.53)
-    (path wp-o2 wp-entrance) (= (distance wp-o2 wp-entrance) 2.09)
-    (path wp-o2 wp-tray) (= (distance wp-o2 wp-tray) 2.14)
-    (path wp-o2 wp-container) (= (distance wp-o2 wp-container) 1.73)
-    (path wp-o2 wp-o1) (= (distance wp-o2 wp-o1) 1.55)
-    (path wp-o2 wp-o3) (= (distance wp-o2 wp-o3) 1.06)
-    (path wp-o2 wp-o4) (= (distance wp-o2 wp-o4) 0.98)
-    (path wp-o3 wp-entrance) (= (distance wp-o3 wp-entrance) 3.04)
-    (path wp-o3 wp-tray) (= (distance wp-o3 wp-tray) 2.19)
-    (path wp-o3 wp-container) (= (distance wp-o3 wp-container) 1.35)
-    (path wp-o3 wp-o1) (= (distance wp-o3 wp-o1) 2.24)
-    (path wp-o3 wp-o2) (= (distance wp-o3 wp-o2) 1.06)
-    (path wp-o3 wp-o4) (= (distance wp-o3 wp-o4) 1.22)
-    (path wp-o4 wp-entrance) (= (distance wp-o4 wp-entrance) 2.91)
-    (path wp-o4 wp-tray) (= (distance wp-o4 wp-tray) 3.04)
-    (path wp-o4 wp-container) (= (distance wp-o4 wp-container) 2.42)
-    (path wp-o4 wp-o1) (= (distance wp-o4 wp-o1) 2.53)
-    (path wp-o4 wp-o2) (= (distance wp-o4 wp-o2) 0.98)
-    (path wp-o4 wp-o3) (= (distance wp-o4 wp-o3) 1.22))
+    ;; known collision-free paths h(x,y) and the robot's time along them: the length k(x,y)
+    ;; at 0.22 m/s plus a 0.8 s stop
+    (path wp-entrance wp-tray) (= (travel-time wp-entrance wp-tray) 11.71)
+    (path wp-entrance wp-container) (= (travel-time wp-entrance wp-container) 13.80)
+    (path wp-entrance wp-o1) (= (travel-time wp-entrance wp-o1) 5.89)
+    (path wp-entrance wp-o2) (= (travel-time wp-entrance wp-o2) 10.30)
+    (path wp-entrance wp-o3) (= (travel-time wp-entrance wp-o3) 14.62)
+    (path wp-entrance wp-o4) (= (travel-time wp-entrance wp-o4) 14.03)
+    (path wp-tray wp-entrance) (= (travel-time wp-tray wp-entrance) 11.71)
+    (path wp-tray wp-container) (= (travel-time wp-tray wp-container) 5.35)
+    (path wp-tray wp-o1) (= (travel-time wp-tray wp-o1) 6.80)
+    (path wp-tray wp-o2) (= (travel-time wp-tray wp-o2) 10.53)
+    (path wp-tray wp-o3) (= (travel-time wp-tray wp-o3) 10.75)
+    (path wp-tray wp-o4) (= (travel-time wp-tray wp-o4) 14.62)
+    (path wp-container wp-entrance) (= (travel-time wp-container wp-entrance) 13.80)
+    (path wp-container wp-tray) (= (travel-time wp-container wp-tray) 5.35)
+    (path wp-container wp-o1) (= (travel-time wp-container wp-o1) 8.85)
+    (path wp-container wp-o2) (= (travel-time wp-container wp-o2) 8.66)
+    (path wp-container wp-o3) (= (travel-time wp-container wp-o3) 6.94)
+    (path wp-container wp-o4) (= (travel-time wp-container wp-o4) 11.80)
+    (path wp-o1 wp-entrance) (= (travel-time wp-o1 wp-entrance) 5.89)
+    (path wp-o1 wp-tray) (= (travel-time wp-o1 wp-tray) 6.80)
+    (path wp-o1 wp-container) (= (travel-time wp-o1 wp-container) 8.85)
+    (path wp-o1 wp-o2) (= (travel-time wp-o1 wp-o2) 7.85)
+    (path wp-o1 wp-o3) (= (travel-time wp-o1 wp-o3) 10.98)
+    (path wp-o1 wp-o4) (= (travel-time wp-o1 wp-o4) 12.30)
+    (path wp-o2 wp-entrance) (= (travel-time wp-o2 wp-entrance) 10.30)
+    (path wp-o2 wp-tray) (= (travel-time wp-o2 wp-tray) 10.53)
+    (path wp-o2 wp-container) (= (travel-time wp-o2 wp-container) 8.66)
+    (path wp-o2 wp-o1) (= (travel-time wp-o2 wp-o1) 7.85)
+    (path wp-o2 wp-o3) (= (travel-time wp-o2 wp-o3) 5.62)
+    (path wp-o2 wp-o4) (= (travel-time wp-o2 wp-o4) 5.25)
+    (path wp-o3 wp-entrance) (= (travel-time wp-o3 wp-entrance) 14.62)
+    (path wp-o3 wp-tray) (= (travel-time wp-o3 wp-tray) 10.75)
+    (path wp-o3 wp-container) (= (travel-time wp-o3 wp-container) 6.94)
+    (path wp-o3 wp-o1) (= (travel-time wp-o3 wp-o1) 10.98)
+    (path wp-o3 wp-o2) (= (travel-time wp-o3 wp-o2) 5.62)
+    (path wp-o3 wp-o4) (= (travel-time wp-o3 wp-o4) 6.35)
+    (path wp-o4 wp-entrance) (= (travel-time wp-o4 wp-entrance) 14.03)
+    (path wp-o4 wp-tray) (= (travel-time wp-o4 wp-tray) 14.62)
+    (path wp-o4 wp-container) (= (travel-time wp-o4 wp-container) 11.80)
+    (path wp-o4 wp-o1) (= (travel-time wp-o4 wp-o1) 12.30)
+    (path wp-o4 wp-o2) (= (travel-time wp-o4 wp-o2) 5.25)
+    (path wp-o4 wp-o3) (= (travel-time wp-o4 wp-o3) 6.35))
   (:goal (and (tidied o1) (tidied o2) (tidied o3) (tidied o4)))
   (:metric minimize (total-cost)))

@@ -7,15 +7,15 @@
 ;; then tidy the rest. ob is not in the goal. Strata 1 and 2 have no plan; stratum 3
 ;; (P3 = P2 + drop_object, move_back) has.
 ;;
-;; Expected optimal plan (c = 10.28 m + 6 = 16.28):
-;;   move wp-entrance wp-ob (2.37); take_object ob wp-ob      ; frees the paths to wp-o1
-;;   move wp-ob wp-removal (1.79); drop_object ob wp-removal  ; stratum 3
-;;   move_back wp-removal wp-o2 (0.67)                        ; stratum 3
-;;   take_object o2 wp-o2; move wp-o2 wp-container (1.80)
+;; Expected optimal plan (seconds: c = 51.54 s of moves + 85.8 s = 137.34):
+;;   move wp-entrance wp-ob (11.57); take_object ob wp-ob      ; frees the paths to wp-o1
+;;   move wp-ob wp-removal (8.94); drop_object ob wp-removal  ; stratum 3
+;;   move_back wp-removal wp-o2 (3.85)                        ; stratum 3
+;;   take_object o2 wp-o2; move wp-o2 wp-container (8.98)
 ;;   deliver_it o2 container-a wp-container kitchen
-;;   move wp-container wp-o1 (1.33); take_object o1 wp-o1
-;;   move wp-o1 wp-tray (2.32); deliver_it o1 tray1 wp-tray food
-;; p = 0.95^3 * 0.98^2 * 0.98 (drop) = 0.8070, c + 1000(1 - p) = 209.33.
+;;   move wp-container wp-o1 (6.85); take_object o1 wp-o1
+;;   move wp-o1 wp-tray (11.35); deliver_it o1 tray1 wp-tray food
+;; p = 0.95^3 * 0.98^2 * 0.98 (drop) = 0.8070, c + 1000(1 - p) = 330.39.
 
 (define (problem tidy-p3)
   (:domain tidy)
@@ -46,48 +46,49 @@
     (blocks ob wp-o1 wp-container) (blocked wp-o1 wp-container)
     (blocks ob wp-o1 wp-ob) (blocked wp-o1 wp-ob)
     (blocks ob wp-o1 wp-o2) (blocked wp-o1 wp-o2)
-    ;; known collision-free paths h(x,y) and their lengths k(x,y) in metres
-    (path wp-entrance wp-removal) (= (distance wp-entrance wp-removal) 0.58)
-    (path wp-entrance wp-tray) (= (distance wp-entrance wp-tray) 2.40)
-    (path wp-entrance wp-container) (= (distance wp-entrance wp-container) 2.86)
-    (path wp-entrance wp-ob) (= (distance wp-entrance wp-ob) 2.37)
-    (path wp-entrance wp-o1) (= (distance wp-entrance wp-o1) 3.61)
-    (path wp-entrance wp-o2) (= (distance wp-entrance wp-o2) 1.25)
-    (path wp-removal wp-entrance) (= (distance wp-removal wp-entrance) 0.58)
-    (path wp-removal wp-tray) (= (distance wp-removal wp-tray) 2.01)
-    (path wp-removal wp-container) (= (distance wp-removal wp-container) 2.33)
-    (path wp-removal wp-ob) (= (distance wp-removal wp-ob) 1.79)
-    (path wp-removal wp-o1) (= (distance wp-removal wp-o1) 3.02)
-    (path wp-removal wp-o2) (= (distance wp-removal wp-o2) 0.67)
-    (path wp-tray wp-entrance) (= (distance wp-tray wp-entrance) 2.40)
-    (path wp-tray wp-removal) (= (distance wp-tray wp-removal) 2.01)
-    (path wp-tray wp-container) (= (distance wp-tray wp-container) 1.00)
-    (path wp-tray wp-ob) (= (distance wp-tray wp-ob) 1.84)
-    (path wp-tray wp-o1) (= (distance wp-tray wp-o1) 2.32)
-    (path wp-tray wp-o2) (= (distance wp-tray wp-o2) 1.75)
-    (path wp-container wp-entrance) (= (distance wp-container wp-entrance) 2.86)
-    (path wp-container wp-removal) (= (distance wp-container wp-removal) 2.33)
-    (path wp-container wp-tray) (= (distance wp-container wp-tray) 1.00)
-    (path wp-container wp-ob) (= (distance wp-container wp-ob) 1.26)
-    (path wp-container wp-o1) (= (distance wp-container wp-o1) 1.33)
-    (path wp-container wp-o2) (= (distance wp-container wp-o2) 1.80)
-    (path wp-ob wp-entrance) (= (distance wp-ob wp-entrance) 2.37)
-    (path wp-ob wp-removal) (= (distance wp-ob wp-removal) 1.79)
-    (path wp-ob wp-tray) (= (distance wp-ob wp-tray) 1.84)
-    (path wp-ob wp-container) (= (distance wp-ob wp-container) 1.26)
-    (path wp-ob wp-o1) (= (distance wp-ob wp-o1) 1.27)
-    (path wp-ob wp-o2) (= (distance wp-ob wp-o2) 1.12)
-    (path wp-o1 wp-entrance) (= (distance wp-o1 wp-entrance) 3.61)
-    (path wp-o1 wp-removal) (= (distance wp-o1 wp-removal) 3.02)
-    (path wp-o1 wp-tray) (= (distance wp-o1 wp-tray) 2.32)
-    (path wp-o1 wp-container) (= (distance wp-o1 wp-container) 1.33)
-    (path wp-o1 wp-ob) (= (distance wp-o1 wp-ob) 1.27)
-    (path wp-o1 wp-o2) (= (distance wp-o1 wp-o2) 2.36)
-    (path wp-o2 wp-entrance) (= (distance wp-o2 wp-entrance) 1.25)
-    (path wp-o2 wp-removal) (= (distance wp-o2 wp-removal) 0.67)
-    (path wp-o2 wp-tray) (= (distance wp-o2 wp-tray) 1.75)
-    (path wp-o2 wp-container) (= (distance wp-o2 wp-container) 1.80)
-    (path wp-o2 wp-ob) (= (distance wp-o2 wp-ob) 1.12)
-    (path wp-o2 wp-o1) (= (distance wp-o2 wp-o1) 2.36))
+    ;; known collision-free paths h(x,y) and the robot's time along them: the length k(x,y)
+    ;; at 0.22 m/s plus a 0.8 s stop
+    (path wp-entrance wp-removal) (= (travel-time wp-entrance wp-removal) 3.44)
+    (path wp-entrance wp-tray) (= (travel-time wp-entrance wp-tray) 11.71)
+    (path wp-entrance wp-container) (= (travel-time wp-entrance wp-container) 13.80)
+    (path wp-entrance wp-ob) (= (travel-time wp-entrance wp-ob) 11.57)
+    (path wp-entrance wp-o1) (= (travel-time wp-entrance wp-o1) 17.21)
+    (path wp-entrance wp-o2) (= (travel-time wp-entrance wp-o2) 6.48)
+    (path wp-removal wp-entrance) (= (travel-time wp-removal wp-entrance) 3.44)
+    (path wp-removal wp-tray) (= (travel-time wp-removal wp-tray) 9.94)
+    (path wp-removal wp-container) (= (travel-time wp-removal wp-container) 11.39)
+    (path wp-removal wp-ob) (= (travel-time wp-removal wp-ob) 8.94)
+    (path wp-removal wp-o1) (= (travel-time wp-removal wp-o1) 14.53)
+    (path wp-removal wp-o2) (= (travel-time wp-removal wp-o2) 3.85)
+    (path wp-tray wp-entrance) (= (travel-time wp-tray wp-entrance) 11.71)
+    (path wp-tray wp-removal) (= (travel-time wp-tray wp-removal) 9.94)
+    (path wp-tray wp-container) (= (travel-time wp-tray wp-container) 5.35)
+    (path wp-tray wp-ob) (= (travel-time wp-tray wp-ob) 9.16)
+    (path wp-tray wp-o1) (= (travel-time wp-tray wp-o1) 11.35)
+    (path wp-tray wp-o2) (= (travel-time wp-tray wp-o2) 8.75)
+    (path wp-container wp-entrance) (= (travel-time wp-container wp-entrance) 13.80)
+    (path wp-container wp-removal) (= (travel-time wp-container wp-removal) 11.39)
+    (path wp-container wp-tray) (= (travel-time wp-container wp-tray) 5.35)
+    (path wp-container wp-ob) (= (travel-time wp-container wp-ob) 6.53)
+    (path wp-container wp-o1) (= (travel-time wp-container wp-o1) 6.85)
+    (path wp-container wp-o2) (= (travel-time wp-container wp-o2) 8.98)
+    (path wp-ob wp-entrance) (= (travel-time wp-ob wp-entrance) 11.57)
+    (path wp-ob wp-removal) (= (travel-time wp-ob wp-removal) 8.94)
+    (path wp-ob wp-tray) (= (travel-time wp-ob wp-tray) 9.16)
+    (path wp-ob wp-container) (= (travel-time wp-ob wp-container) 6.53)
+    (path wp-ob wp-o1) (= (travel-time wp-ob wp-o1) 6.57)
+    (path wp-ob wp-o2) (= (travel-time wp-ob wp-o2) 5.89)
+    (path wp-o1 wp-entrance) (= (travel-time wp-o1 wp-entrance) 17.21)
+    (path wp-o1 wp-removal) (= (travel-time wp-o1 wp-removal) 14.53)
+    (path wp-o1 wp-tray) (= (travel-time wp-o1 wp-tray) 11.35)
+    (path wp-o1 wp-container) (= (travel-time wp-o1 wp-container) 6.85)
+    (path wp-o1 wp-ob) (= (travel-time wp-o1 wp-ob) 6.57)
+    (path wp-o1 wp-o2) (= (travel-time wp-o1 wp-o2) 11.53)
+    (path wp-o2 wp-entrance) (= (travel-time wp-o2 wp-entrance) 6.48)
+    (path wp-o2 wp-removal) (= (travel-time wp-o2 wp-removal) 3.85)
+    (path wp-o2 wp-tray) (= (travel-time wp-o2 wp-tray) 8.75)
+    (path wp-o2 wp-container) (= (travel-time wp-o2 wp-container) 8.98)
+    (path wp-o2 wp-ob) (= (travel-time wp-o2 wp-ob) 5.89)
+    (path wp-o2 wp-o1) (= (travel-time wp-o2 wp-o1) 11.53))
   (:goal (and (tidied o1) (tidied o2)))
   (:metric minimize (total-cost)))

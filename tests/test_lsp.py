@@ -273,10 +273,10 @@ async def test_hover_an_action_shows_parameters_probability_stratum_units_and_co
     uri = await opened(client, DOMAIN)
     h = await _hover(client, uri, inside(text, "take_object", "(:action take_object"))
     assert "(take_object ?o - item ?w - waypoint)" in h
-    assert "stratum **P1**" in h and "probability **0.95**" in h and "cost **1**" in h
+    assert "stratum **P1**" in h and "probability **0.95**" in h and "cost **16.5**" in h
     assert "(adjust_base ?o) (grasp ?o)" in h
     h = await _hover(client, uri, inside(text, "move", "(:action move\n"))
-    assert "cost **(distance ?from ?to)**" in h and "probability **1**" in h
+    assert "cost **(travel-time ?from ?to)**" in h and "probability **1**" in h
     h = await _hover(client, uri, inside(text, "possible_ego_pose_adjustment", "(:action possible"))
     assert "stratum **P2**" in h
 
@@ -319,7 +319,7 @@ async def test_hover_a_predicate_or_type_shows_its_declaration(client):
     [
         ("item-at", "(:action take_object", "(:predicates"),  # a predicate
         ("waypoint", "(:action move\n", "(:types"),  # a type
-        ("distance", "(increase (total-cost) (distance", "(:functions"),  # a function
+        ("travel-time", "(increase (total-cost) (travel-time", "(:functions"),  # a function
         ("?to", ":units ((navigate ?to))", "(:action move\n"),  # a parameter
     ],
 )

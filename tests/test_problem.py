@@ -5,6 +5,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
 from sim.scenario.read import load
 from tidyplan.belief.geometry import RoomMap
 from tidyplan.belief.problem import write
@@ -107,7 +110,7 @@ def test_the_problem_is_the_model_in_what_the_domain_declares():
     scenario, belief = _case1_belief()
     snap = write(belief, belief.facts(), [], [("unseen-tool-1", "tool")], "t", domain=domain)
     assert snap.problem.domain_name == "lean"
-    assert {t.name for t, _ in snap.problem.values} == {"total-cost", "distance"}
+    assert {t.name for t, _ in snap.problem.values} == {"total-cost", "travel-time"}
     assert all(domain.predicate(a.predicate) for a in snap.problem.init)
     assert parse(snap.text, "t.pddl").init == snap.problem.init
 
@@ -144,3 +147,67 @@ def test_a_scenario_fact_the_domain_cannot_hold_is_refused_before_the_world_star
         with pytest.raises(tidyplan.InputError) as err:
             tidyplan.run(path, world="symbolic")
         assert f"{path}: facts[0] {fact}: {why}" in str(err.value)
+
+
+def test_the_shipped_domains_costs_are_the_robots_seconds():
+    """Planned in seconds, the cheapest plan is the fastest (issue 31): each move costs the path's
+    length at the robot's speed plus the stop, and R is in seconds too; a domain whose moves cost
+    metres gets metres and the default R."""
+    from tidyplan.belief.problem import STOP_S
+    from tidyplan.loop.scenarios import DOMAIN
+
+    scenario, belief = _case1_belief()
+    speed = scenario.robot.speed
+    facts = belief.facts()
+    snap = write(belief, facts, [], [], "t", domain=parse(DOMAIN.read_text(), "tidy.pddl"))
+    times = {t.args: x for t, x in snap.problem.values if t.name == "travel-time"}
+    assert {t.name for t, _ in snap.problem.values} == {"total-cost", "travel-time"}
+    assert set(times) == set(facts.path) | set(facts.blocked) | set(facts.adjust)
+    for pair, d in facts.path.items():
+        assert times[pair] == round(d / speed + STOP_S, 2)
+    assert snap.problem.goal_reward == round(1000 / speed, 2)
+    assert "(:goal-reward 4545.45)" in snap.text and "(= (travel-time " in snap.text
+
+    metres = DOMAIN.read_text().replace("(travel-time ?from ?to", "(distance ?from ?to")
+    snap = write(belief, facts, [], [], "t", domain=parse(metres, "metres.pddl"))
+    lengths = {t.args: x for t, x in snap.problem.values if t.name == "distance"}
+    assert {t.name for t, _ in snap.problem.values} == {"total-cost", "distance"}
+    assert all(lengths[pair] == round(d, 2) for pair, d in facts.path.items())
+    assert snap.problem.goal_reward is None and ":goal-reward" not in snap.text
+
+
+@settings(max_examples=300, derandomize=True)
+@given(
+    st.floats(0.0, 30.0),
+    st.floats(0.0, 30.0),
+    st.floats(0.0, 30.0),
+    st.floats(0.05, 2.0),
+)
+def test_travel_times_keep_the_triangle_inequality(ab, bc, slack, speed):
+    """A path no longer than a detour is no slower than it, rounding included, so the planner's
+    move reduction (a stop at an idle waypoint never pays, docs/planner.md) still holds."""
+    from tidyplan.belief.problem import travel_time
+
+    ac = max(0.0, ab + bc - slack)
+    assert travel_time(ac, speed) <= travel_time(ab, speed) + travel_time(bc, speed)
+
+
+def test_the_generated_tasks_cost_what_the_shipped_domain_does():
+    """tidyplan.generate.tasks imports nothing of tidyplan's planning, so its Held-Karp optimum
+    states tidy.pddl's costs itself: they must be the domain's."""
+    from tidyplan.belief.problem import STOP_S, travel_time
+    from tidyplan.generate import tasks
+    from tidyplan.loop.scenarios import DOMAIN
+    from tidyplan.pddl import model as m
+
+    def cost(effect):  # the amount of an action's (increase (total-cost) ...)
+        if isinstance(effect, m.Increase):
+            return effect.amount
+        parts = effect.parts if isinstance(effect, m.AndEffect) else ()
+        return next((c for c in map(cost, parts) if c is not None), None)
+
+    costs = {a.name: cost(a.effect) for a in parse(DOMAIN.read_text(), "tidy.pddl").actions}
+    assert costs["take_object"] == tasks.TAKE_S and costs["deliver_it"] == tasks.DELIVER_S
+    assert costs["move"] == m.FunctionTerm("travel-time", ("?from", "?to"))
+    assert tasks.STOP_S == STOP_S
+    assert all(tasks.travel_time(d) == travel_time(d, tasks.SPEED) for d in (0.0, 0.37, 2.5, 11.04))

@@ -10,8 +10,11 @@ Facts, from the belief and the map (``tidyplan.belief.geometry``):
   waypoint) and that it is ``located``; tidied items are left out (nothing more to do with them);
 - unseen items as ``:virtual-objects`` with their category; ``unexplored`` viewpoints with
   ``p-item-near`` for ``assume-item-near``;
-- paths and their lengths, blocked paths and what blocks them, pose adjustments (never
-  ``(shortest-paths)``: with it cases I and II failed, docs/planner.md);
+- paths and their lengths (``distance``, metres) and the robot's time along them
+  (``travel-time``, seconds: ``travel_time``), blocked paths and what blocks them, pose
+  adjustments (never ``(shortest-paths)``: with it cases I and II failed, docs/planner.md);
+- where the domain's moves cost ``travel-time`` (the shipped tidy.pddl: every cost in seconds),
+  the goal reward R of the criterion c + R(1 - p) in seconds too (``goal_reward``).
 - for every item that may need moving out of the way, the removal waypoint of Algorithm 1,
   computed from where that item is picked up (``tidyplan.planning.removal``).
 """
@@ -27,12 +30,34 @@ from tidyplan.belief.geometry import MapFacts, deposit_waypoint
 from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import COST, GOAL, VOCABULARY
 from tidyplan.pddl import model as m
+from tidyplan.pddl.criterion import DEFAULT_REWARD
 from tidyplan.pddl.writer import problem_text
 from tidyplan.planning.removal import Waypoint, removal_waypoint
 
 Point = tuple[float, float]
 
 NOT_FOR_REMOVAL = ("grasp", "deposit", "adjust", "robot")
+# s a move takes beyond its length at the base's speed (its stop, the turn it was too short for):
+# a move's pybullet mean, 10.1 s for 2.0 m, less 2.0 m at 0.22 m/s (docs/results.md)
+STOP_S = 0.8
+TRAVEL_TIME = "travel-time"
+
+
+def travel_time(metres: float, speed: float) -> float:
+    """The seconds a move along ``metres`` of path takes the robot at ``speed`` m/s, as the
+    problem states them (adding STOP_S keeps the triangle inequality: a detour costs a stop)."""
+    return round(metres / speed + STOP_S, 2)
+
+
+def goal_reward(domain: m.Domain | None, speed: float) -> float | None:
+    """R for a problem whose costs are seconds (its domain's moves cost ``travel-time``): the
+    criterion's default of 1000 (``tidyplan.pddl.criterion.DEFAULT_REWARD``) taken as metres
+    of driving, as it was when moves cost metres, in the robot's seconds (4545 s at 0.22 m/s): an
+    assumption's chance weighs against driving as it did when Table II was measured. None (the
+    default R) for a domain that costs something else."""
+    if domain is not None and domain.function(TRAVEL_TIME) is None:
+        return None
+    return round(DEFAULT_REWARD / speed, 2)
 
 
 @dataclass(frozen=True, slots=True)
@@ -210,7 +235,7 @@ def _contents(belief, facts, virtual, keep, domain, with_map=True):
         atoms.append(("unexplored", w))
         values.append(("p-item-near", (w,), p))
     if with_map:
-        map_atoms, map_values = _map_part(facts)
+        map_atoms, map_values = _map_part(facts, belief.scenario.robot.speed)
         atoms += map_atoms
         values += map_values
     objects = [(n, "waypoint") for n in sorted(facts.points)] + [(k.name, "item") for k in seen]
@@ -225,10 +250,12 @@ def _contents(belief, facts, virtual, keep, domain, with_map=True):
         declared = {a[0] for a in atoms if domain.predicate(a[0]) is not None}
         atoms = [a for a in atoms if a[0] in declared]
         values = [v for v in values if domain.function(v[0]) is not None]
+    else:  # the shipped tidy.pddl's words (``domain_name`` "tidy"): its moves cost seconds
+        values = [v for v in values if v[0] != "distance"]
     return atoms, values, objects, seen, robot_wp, removal
 
 
-_MAP_PARTS: dict[int, tuple[MapFacts, list, list]] = {}  # id(facts) -> (facts, atoms, values)
+_MAP_PARTS: dict[int, tuple[MapFacts, float, list, list]] = {}  # id(facts) -> (facts, speed, atoms, values)
 _MAP_SETS: dict[int, tuple[MapFacts, frozenset]] = {}  # id(facts) -> (facts, its atoms as a set)
 _MAP_PREDICATES = ("path", "blocked", "blocks", "pose-adjustment")  # the atoms _map_part writes
 
@@ -250,28 +277,33 @@ def _map_set(facts: MapFacts) -> frozenset:
     return _MAP_SETS[id(facts)][1]
 
 
-def _map_part(facts: MapFacts) -> tuple[list, list]:
-    """The map's atoms and distances in order: paths, blocked paths and what blocks them, pose
-    adjustments. Kept for the last few maps: the belief hands out one MapFacts while nothing it
-    depends on changes (never edited after), and the monitor writes after every action."""
+def _map_part(facts: MapFacts, speed: float) -> tuple[list, list]:
+    """The map's atoms, distances and travel times in order: paths, blocked paths and what blocks
+    them, pose adjustments. Kept for the last few maps: the belief hands out one MapFacts while
+    nothing it depends on changes (never edited after), and the monitor writes after every action."""
     hit = _MAP_PARTS.get(id(facts))
-    if hit is not None and hit[0] is facts:
-        return hit[1], hit[2]
+    if hit is not None and hit[0] is facts and hit[1] == speed:
+        return hit[2], hit[3]
     atoms: list[tuple[str, ...]] = []
     values: list[tuple[str, tuple[str, ...], float]] = []
+
+    def lengths(u: str, v: str, d: float) -> None:
+        values.append(("distance", (u, v), round(d, 2)))
+        values.append((TRAVEL_TIME, (u, v), travel_time(d, speed)))
+
     for (u, v), d in sorted(facts.path.items()):
         atoms.append(("path", u, v))
-        values.append(("distance", (u, v), round(d, 2)))
+        lengths(u, v, d)
     for (u, v), d in sorted(facts.blocked.items()):
         atoms += [("path", u, v), ("blocked", u, v)]
-        values.append(("distance", (u, v), round(d, 2)))
+        lengths(u, v, d)
     atoms += [("blocks", item, u, v) for item, u, v in sorted(facts.blocks)]
     for (u, v), d in sorted(facts.adjust.items()):
         atoms.append(("pose-adjustment", u, v))
-        values.append(("distance", (u, v), round(d, 2)))
+        lengths(u, v, d)
     if len(_MAP_PARTS) >= 4:
         _MAP_PARTS.clear()
-    _MAP_PARTS[id(facts)] = (facts, atoms, values)
+    _MAP_PARTS[id(facts)] = (facts, speed, atoms, values)
     return atoms, values
 
 
@@ -304,6 +336,7 @@ def write(
         + tuple((m.FunctionTerm(f, args), x) for f, args, x in values),
         goal=m.And(goal_atoms(belief, goal, domain)),
         metric=("minimize", m.FunctionTerm(COST, ())) if has_costs else None,
+        goal_reward=goal_reward(domain, belief.scenario.robot.speed) if has_costs else None,
     )
     header = (
         f";; {name}: written from the belief state by tidyplan (scenario {belief.scenario.name}).",

@@ -35,7 +35,8 @@ VOCABULARY: dict[str, tuple[str, ...]] = {
     GOAL: ("item",),
 }
 VOCABULARY_FUNCTIONS: dict[str, tuple[str, ...]] = {
-    "distance": ("waypoint", "waypoint"),
+    "distance": ("waypoint", "waypoint"),  # metres along the path
+    "travel-time": ("waypoint", "waypoint"),  # seconds along it at the robot's speed
     "p-item-near": ("waypoint",),
     COST: (),
 }

@@ -15,7 +15,10 @@ Robot radius 0.22 m (HSR footprint about 0.43 m across). Grid 5 cm, 8-connected.
 Floor items are not obstacles here: the distances are those of the static map (the paper's
 pre-built occupancy grid); obstruction by floor items is modelled by `blocks` in P3 problems.
 
-Cost model (must match tidy.pddl): move = distance (2 decimals), take_object 1, deliver_it 1.
+Cost model (must match tidy.pddl, whose costs are the robot's seconds): a move its travel time,
+the path's length at the HSR's 0.22 m/s plus a 0.8 s stop (2 decimals); take_object 16.5,
+deliver_it 12.8. ``optimum(..., seconds=False)`` is the same room in metres (a move its length,
+take and deliver 1 each): the cost model of bench/tidygen_rooms.py's encoding.
 """
 
 from __future__ import annotations
@@ -38,6 +41,8 @@ CLEAR = ROBOT_RADIUS + 0.05  # a waypoint keeps the robot off floor items (radiu
 ENTRANCE = (0.0, -1.6)
 DELIVERY_X = -2.15  # waypoints in front of the deposit wall, just outside the inflation
 CATEGORIES = ("food", "kitchen", "tool", "task")  # the 4 item categories (3 each at 12)
+# tidy.pddl's costs, in seconds (tidyplan.belief.problem.travel_time writes a mission's the same way)
+SPEED, STOP_S, TAKE_S, DELIVER_S = 0.22, 0.8, 16.5, 12.8
 
 
 # sizes from the WRS rules; positions from the Gazebo world, except shelf and chair (our choice)
@@ -71,11 +76,13 @@ ZONES = {
 
 @dataclass(frozen=True, slots=True)
 class Instance:
-    """A generated problem: waypoints and their (x, y), rounded distances (inf: no path), items."""
+    """A generated problem: waypoints and their (x, y), rounded distances (inf: no path) and travel
+    times, items."""
 
     waypoints: tuple[str, ...]
     xy: tuple[tuple[float, float], ...]
     dist: tuple[tuple[float, ...], ...]
+    time: tuple[tuple[float, ...], ...]  # s: travel_time of each distance
     items: tuple[tuple[str, str, str, float, float], ...]  # name, category, support, x, y
     grasp: tuple[int, ...]  # waypoint index of each item's grasp waypoint
 
@@ -169,7 +176,13 @@ def build(seed: int, n_items: int = 12) -> Instance:
     # never detours through another waypoint to save a rounding cent.
     dist = tuple(tuple(round(v, 2) for v in r) for r in _closure(rows))
     xy = tuple((round(x, 3), round(y, 3)) for x, y in points)
-    return Instance(tuple(names), xy, dist, tuple(items), tuple(grasp))
+    time = tuple(tuple(travel_time(v) for v in r) for r in dist)
+    return Instance(tuple(names), xy, dist, time, tuple(items), tuple(grasp))
+
+
+def travel_time(metres: float) -> float:
+    """A move's seconds as tidy.pddl's problems state them (inf stays inf: no path)."""
+    return math.inf if not math.isfinite(metres) else round(metres / SPEED + STOP_S, 2)
 
 
 def generate(seed: int, n_items: int = 12) -> str:
@@ -179,7 +192,8 @@ def generate(seed: int, n_items: int = 12) -> str:
     used = sorted({c for _, c in DEPOSITS.values()})
     lines = [
         f";; tidygen seed {seed}, {n_items} items: WRS tidy-up room, robot at the entrance.",
-        ";; Distances: shortest paths on a 5 cm grid, furniture inflated by 0.22 m.",
+        ";; Travel times: shortest paths on a 5 cm grid, furniture inflated by 0.22 m, at 0.22 m/s",
+        ";; plus a 0.8 s stop.",
         ";; Items (name category support x y):",
         *(f";;   {n} {c} {s} {x:.3f} {y:.3f}" for n, c, s, x, y in items),
         ";; Waypoints (name x y):",
@@ -196,33 +210,35 @@ def generate(seed: int, n_items: int = 12) -> str:
         "    (= (total-cost) 0)",
         "    (robot-at wp-entrance) (hand-empty)",
     ]
-    if _no_detour_pays(inst.dist):
+    if _no_detour_pays(inst.time):
         lines.append("    (shortest-paths)")  # tidy.pddl: moves go only where there is work
     for (name, cat, *_), g in zip(items, inst.grasp, strict=True):
         lines.append(f"    (item-at {name} {wp[g]}) (of-category {name} {cat})")
     for dep, (_y, cat) in DEPOSITS.items():
         lines.append(f"    (deposit-at {dep} wp-{dep}) (accepts {dep} {cat})")
     for a, b in itertools.permutations(range(len(wp)), 2):
-        d = inst.dist[a][b]
-        if math.isfinite(d):
-            lines.append(f"    (path {wp[a]} {wp[b]}) (= (distance {wp[a]} {wp[b]}) {d:.2f})")
+        t = inst.time[a][b]
+        if math.isfinite(t):
+            lines.append(f"    (path {wp[a]} {wp[b]}) (= (travel-time {wp[a]} {wp[b]}) {t:.2f})")
     lines[-1] += ")"
     goal = " ".join(f"(tidied {n})" for n, *_ in items)
     lines += [f"  (:goal (and {goal}))", "  (:metric minimize (total-cost)))", ""]
     return "\n".join(lines)
 
 
-def optimum(seed: int, n_items: int = 12) -> float:
-    """Exact optimal total-cost by DP over subsets (Held-Karp).
+def optimum(seed: int, n_items: int = 12, seconds: bool = True) -> float:
+    """Exact optimal total-cost by DP over subsets (Held-Karp); ``seconds`` False: in metres.
 
     State: (set of tidied items, robot location), the location being the entrance at the start
     or the waypoint of the deposit last delivered to. The deposit is part of the state, not
     minimised greedily, because it fixes where the next leg starts. One step: move to an item's
-    grasp waypoint, take (1), move to a deposit accepting its category, deliver (1). The hand
+    grasp waypoint, take, move to a deposit accepting its category, deliver. The hand
     holds one item, so every plan is such a sequence; moves cost the cheapest chain of moves.
     """
     inst = build(seed, n_items)
-    d = _closure(inst.dist)  # a no-op on build's matrix; kept so the DP relies on nothing else
+    # a no-op on build's matrices; kept so the DP relies on nothing else
+    d = _closure(inst.time if seconds else inst.dist)
+    take, deliver = (TAKE_S, DELIVER_S) if seconds else (1, 1)
     dep_wps = {name: inst.waypoints.index(f"wp-{name}") for name in DEPOSITS}
     choices = [[dep_wps[n] for n, (_y, c) in DEPOSITS.items() if c == cat] for _, cat, *_ in inst.items]
     layers: list[dict[int, float]] = [{} for _ in range(1 << n_items)]  # mask -> {loc: cost}
@@ -234,7 +250,7 @@ def optimum(seed: int, n_items: int = 12) -> float:
                     continue
                 g, nxt = inst.grasp[i], layers[mask | 1 << i]
                 for w in choices[i]:
-                    c = cost + d[loc][g] + 1 + d[g][w] + 1
+                    c = cost + d[loc][g] + take + d[g][w] + deliver
                     if c < nxt.get(w, math.inf):
                         nxt[w] = c
     return round(min(layers[-1].values()), 2)

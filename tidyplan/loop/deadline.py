@@ -24,13 +24,13 @@ from dataclasses import dataclass
 
 from sim.scenario.model import ORIENTATION
 from tidyplan.belief.geometry import MapFacts, deposit_waypoint
-from tidyplan.belief.problem import robot_waypoint
+from tidyplan.belief.problem import STOP_S, robot_waypoint
 from tidyplan.belief.state import Belief
 
 # s: what the pybullet HSR takes on average (its Task 1 sweep, docs/results.md): a take with its
-# close look and base adjustment, a put into a deposit, a pull of a drawer's handle; and what a
-# drive takes beyond its length over the base's speed (the turn it was too short for, a stop)
-TAKE_S, PUT_S, PULL_S, STOP_S = 6.7, 10.3, 13.1, 0.8
+# close look and base adjustment, a put into a deposit, a pull of a drawer's handle; a drive takes
+# STOP_S beyond its length over the base's speed, as the planner's costs have it
+TAKE_S, PUT_S, PULL_S = 6.7, 10.3, 13.1
 POINTS, ORIENTATION_POINTS, DRAWERS_POINTS = 20.0, 10.0, 50.0  # tidyplan.trace.score's rulebook
 
 

@@ -20,7 +20,8 @@ from difflib import SequenceMatcher
 from tidyplan.errors import Diagnostic, InputError, TidyplanError
 from tidyplan.trace.read import Trace, adopted
 
-BULK = ("path", "distance", "pose-adjustment", "blocks")  # the map's facts: many, summed up in text
+# the map's facts: many, summed up in text
+BULK = ("path", "distance", "travel-time", "pose-adjustment", "blocks")
 
 
 def replan_diff(trace: Trace, n: int) -> dict:
