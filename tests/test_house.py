@@ -147,3 +147,21 @@ def test_every_package_ships():
     listed = set(tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
     found = {m for m, path in MODULES.items() if path.name == "__init__.py"}
     assert found - listed == set()
+
+
+def test_planning_loads_no_world_no_trace_reader_and_no_terminal_styling(tmp_path):
+    """`tidyplan plan` on a small task: its whole call is mostly the interpreter and its imports
+    (docs/planner.md, against Fast Downward's driver), so it imports what planning needs only."""
+    script = (
+        "import sys\n"
+        "from tidyplan.cli.main import main\n"
+        f"assert main(['plan', {str(REPO / 'domains' / 'tidy.pddl')!r}, "
+        f"{str(REPO / 'problems' / 'tidy-p1.pddl')!r}, '--json']) == 0\n"
+        "print(' '.join(sorted(sys.modules)), file=sys.stderr)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    loaded = set(done.stderr.split())
+    for heavy in ("rich", "numpy", "scipy", "networkx", "pybullet", "matplotlib", "tidyplan.trace.read"):
+        assert heavy not in loaded, f"tidyplan plan loaded {heavy}"
+    assert not {m for m in loaded if m.startswith(("tidyplan.belief", "sim."))}

@@ -13,15 +13,19 @@ import argparse
 import json
 import os
 import sys
-
-from rich.console import Console
-from rich.table import Table
-from rich.text import Text
+from typing import TYPE_CHECKING
 
 from tidyplan.errors import Diagnostic, InputError
-from tidyplan.trace.diff import BULK, by_predicate, replan_diff
 from tidyplan.trace.events import CAUSES
-from tidyplan.trace.read import Trace, read_trace, summarise
+
+if TYPE_CHECKING:
+    from rich.console import Console
+    from rich.table import Table
+
+    from tidyplan.trace.read import Trace
+
+# rich and the trace reader are imported where they are used: every command builds this module's
+# parser, and `tidyplan plan` and `check` should not pay for them (tests/test_house.py)
 
 KEPT_SHOWN = 2  # a run of kept steps longer than twice this is shown by its ends
 
@@ -54,6 +58,9 @@ def _count(text: str) -> int:
 def cmd_trace(args) -> int:
     if len(args.files) > 1 and (args.plot or args.html or args.replan is not None):
         raise InputError("--plot, --html and --replan: give one trace (several are compared side by side)")
+    from tidyplan.trace.diff import replan_diff
+    from tidyplan.trace.read import read_trace, summarise
+
     traces = [read_trace(f) for f in args.files]
     for t in traces:
         for w in t.warnings:
@@ -117,6 +124,8 @@ def _scenario(scenario_file: str | None):
 
 
 def _console() -> Console:
+    from rich.console import Console
+
     # Piped output keeps a readable width; markup off: plan steps and reasons are printed as is.
     return Console(
         width=None if sys.stdout.isatty() else 120, markup=False, highlight=False, emoji=False, soft_wrap=True
@@ -187,6 +196,8 @@ SHORT = {
 
 
 def _plans_table(rows: list[dict]) -> Table:
+    from rich.table import Table
+
     table = Table(title="plans and replans", title_justify="left", show_edge=False, pad_edge=False)
     columns = "# sim_s cause why goal status P steps cost p plan_s run".split()
     for name in columns:
@@ -279,6 +290,8 @@ def _print_diff(out: Console, trace: Trace, d: dict) -> None:
 
 
 def _print_steps(out: Console, lines: list[list[str]]) -> None:
+    from rich.text import Text
+
     i = 0
     while i < len(lines):
         j = i
@@ -296,6 +309,10 @@ def _print_steps(out: Console, lines: list[list[str]]) -> None:
 
 
 def _print_facts(out: Console, f: dict) -> None:
+    from rich.text import Text
+
+    from tidyplan.trace.diff import BULK, by_predicate
+
     out.print(
         f"belief ({f['from']} → {f['to']}): {len(f['added'])} facts added, {len(f['removed'])} removed, "
         f"{len(f['values'])} values changed"
@@ -350,6 +367,8 @@ ROWS = (
 
 
 def _print_comparison(out: Console, summaries: list[dict]) -> None:
+    from rich.table import Table
+
     table = Table(
         title="runs side by side (Yan et al., Table III figures)", title_justify="left", show_edge=False
     )

@@ -15,6 +15,7 @@ from tidyplan.pddl.compile import CompiledTask
 from tidyplan.pddl.simulate import ancestors
 
 TOLERANCE = 1  # compiled cost units a metric may be broken by (each cost is rounded once)
+SPARSE_RUNS = 200_000  # runs of two moves walked one by one, at most (about 0.1 s); more: by matrices
 
 
 def is_metric(
@@ -58,7 +59,30 @@ def _has_run(edges: dict[tuple[str, str], float]) -> bool:
 
 
 def _closed(edges: dict[tuple[str, str], float]) -> bool:
-    import numpy as np  # here, not at the top: `tidyplan plan` on a task without moves never pays its import
+    """Is every run of two moves a→b→c (a ≠ c) matched by a direct move a→c costing no more,
+    within TOLERANCE? Walked edge by edge where the runs are few (a plan task's moves: importing
+    numpy would be most of a small task's whole call, 0.1 s), by matrices where they are many."""
+    out: dict[str, dict[str, float]] = {}
+    into: dict[str, dict[str, float]] = {}
+    for (a, c), v in edges.items():
+        if a != c:
+            out.setdefault(a, {})[c] = v
+            into.setdefault(c, {})[a] = v
+    runs = sum(len(into.get(b, ())) * len(cs) for b, cs in out.items())
+    if runs > SPARSE_RUNS:
+        return _closed_dense(edges)
+    for b, onward in out.items():
+        for a, ab in into.get(b, {}).items():
+            direct = out[a]
+            for c, bc in onward.items():
+                if c != a and direct.get(c, math.inf) > ab + bc + TOLERANCE:
+                    return False
+    return True
+
+
+def _closed_dense(edges: dict[tuple[str, str], float]) -> bool:
+    """``_closed`` by matrices, one intermediate place at a time."""
+    import numpy as np  # here, not at the top: only a task with many moves pays its import
 
     places = sorted({p for e in edges for p in e})
     index = {p: i for i, p in enumerate(places)}
