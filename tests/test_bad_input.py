@@ -193,6 +193,34 @@ def test_stratum_below_one_or_fractional_points_at_the_number(expect_lines, writ
     expect_lines(err, [(str(path), line, col + len(":stratum "), r"stratum of 'pick' must be .*at least 1")])
 
 
+@pytest.mark.parametrize("value", ["1e400", "99999999999999999999999", "1e999999999", "1000001"])
+def test_a_stratum_too_large_points_at_the_number_and_is_never_built(
+    expect_lines, write, capsys, position, value
+):
+    """Read exactly (not through a float: 1e400 was an OverflowError, exit 4) and never built as
+    an integer of a billion digits: reported as too large, at the number."""
+    text = DOMAIN.replace(
+        "    :precondition (clear ?x)", f"    :stratum {value}\n    :precondition (clear ?x)"
+    )
+    path = write("domain.pddl", text)
+    status, _, err = _check_in_process(capsys, path)
+    assert status == 2
+    line, col = position(text, f":stratum {value}")
+    want = r"stratum of 'pick' must be at most 1000000"
+    expect_lines(err, [(str(path), line, col + len(":stratum "), want)])
+
+
+@pytest.mark.parametrize("value, stratum", [("2.0", 2), ("1000000", 1_000_000), ("3e0", 3)])
+def test_a_whole_stratum_written_as_a_decimal_is_read_exactly(write, value, stratum):
+    from tidyplan.pddl.reader import read_domain
+
+    text = DOMAIN.replace(
+        "    :precondition (clear ?x)", f"    :stratum {value}\n    :precondition (clear ?x)"
+    )
+    (action,) = [a for a in read_domain(write("domain.pddl", text)).actions if a.name == "pick"]
+    assert action.stratum == stratum
+
+
 def test_assumption_with_a_cost_effect_points_at_the_increase(
     expect_lines, write, tidyplan_cmd, tmp_path, position
 ):

@@ -185,6 +185,8 @@ class _Checker:
             self.error(a.probability_pos, f"probability {a.probability:g} of '{a.name}' is outside (0, 1]")
         if a.stratum < 1:
             self.error(a.stratum_pos, f"stratum of '{a.name}' must be a whole number of at least 1")
+        elif a.stratum > m.MAX_STRATUM:
+            self.error(a.stratum_pos, f"stratum of '{a.name}' must be at most {m.MAX_STRATUM}")
 
     def _duplicates(self, items, what: str) -> None:
         seen: set[str] = set()

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 ROOT_TYPE = "object"
+MAX_STRATUM = 1_000_000  # strata rank operator sets (O-FSM P1, P2, P3): a few are enough
 
 
 @dataclass(frozen=True, slots=True)

@@ -6,6 +6,8 @@ gets its children already transformed. Positions come from the tokens.
 
 from __future__ import annotations
 
+from decimal import Decimal
+
 from lark import Token, Transformer
 
 from tidyplan.pddl import model as m
@@ -237,9 +239,13 @@ def _action(c, is_assumption: bool) -> m.Action:
     units = fields.get("units")
     stratum = 1
     if stratum_token is not None:
-        value = float(stratum_token)
-        # A fractional stratum becomes 0, which the checker reports as invalid.
-        stratum = int(value) if value == int(value) else 0
+        value = Decimal(str(stratum_token))  # exact: 1e400 is no float, 1e23 no whole float
+        # A fractional stratum becomes 0 and a huge one MAX_STRATUM + 1, which the checker
+        # reports; never an integer of 10^400 digits built from a bad input.
+        if value != value.to_integral_value():
+            stratum = 0
+        else:
+            stratum = int(value) if value <= m.MAX_STRATUM else m.MAX_STRATUM + 1
     return m.Action(
         name=str(name),
         parameters=fields.get("parameters", ()),
