@@ -221,6 +221,33 @@ def test_a_whole_stratum_written_as_a_decimal_is_read_exactly(write, value, stra
     assert action.stratum == stratum
 
 
+def test_numbers_too_large_for_a_float_are_bad_input_at_their_place(expect_lines, write, capsys, position):
+    """1e400 reads as infinity: as a cost, an init value or the goal reward it was an internal
+    error (exit 4) when the task was compiled; now the check says where."""
+    domain_text = DOMAIN.replace("(increase (total-cost) 1)", "(increase (total-cost) 1e400)")
+    domain = write("domain.pddl", domain_text)
+    status, _, err = _check_in_process(capsys, domain)
+    assert status == 2
+    line, col = position(domain_text, "increase (total-cost) 1e400)")
+    expect_lines(err, [(str(domain), line, col, r"action cost inf of 'pick' is not a finite number")])
+
+    numeric = DOMAIN.replace("(:functions (total-cost) - number)", "(:functions (total-cost) (w ?x - block))")
+    problem_text = PROBLEM.replace(
+        "(:init (clear b1)", "(:goal-reward 1e400)\n  (:init (= (w b1) 1e400) (clear b1)"
+    )
+    problem = write("problem.pddl", problem_text)
+    status, _, err = _check_in_process(capsys, write("domain.pddl", numeric), problem)
+    assert status == 2
+    w, reward = position(problem_text, "w b1) 1e400"), position(problem_text, "1e400)\n")
+    expect_lines(
+        err,
+        [
+            (str(problem), *w, r"value inf of \(w b1\) is not a finite number"),
+            (str(problem), *reward, r"goal reward must be a positive finite number, not inf"),
+        ],
+    )
+
+
 def test_assumption_with_a_cost_effect_points_at_the_increase(
     expect_lines, write, tidyplan_cmd, tmp_path, position
 ):

@@ -7,6 +7,7 @@ its requirement flag) do not stop reading.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 
 from tidyplan.errors import Diagnostic
@@ -121,6 +122,8 @@ class _Checker:
                 self.function_term(e.target, scope, self.constants)
             if isinstance(e.amount, m.FunctionTerm):
                 self.function_term(e.amount, scope, self.constants)
+            elif not math.isfinite(e.amount):  # 1e400 reads as inf: no planner sums it
+                self.error(e.pos, f"action cost {e.amount:g} of '{action.name}' is not a finite number")
             elif e.amount < 0:
                 self.error(e.pos, f"negative action cost {e.amount:g}")
 
@@ -250,12 +253,16 @@ def check_problem(problem: m.Problem, domain: m.Domain) -> list[Diagnostic]:
                 atom.pos,
                 f"derived predicate '{atom.predicate}' cannot be given in :init: its rules derive it",
             )
-    for term, _ in problem.values:
+    for term, value in problem.values:
         if term.name != COST:
             c.function_term(term, set(), names)
+        if not math.isfinite(value):
+            name = " ".join((term.name, *term.args))
+            c.error(term.pos, f"value {value:g} of ({name}) is not a finite number")
     c.formula(problem.goal, set(), names)
-    if problem.goal_reward is not None and problem.goal_reward <= 0:
-        c.error(m.NOWHERE, f"goal reward must be positive, not {problem.goal_reward:g}")
+    reward = problem.goal_reward
+    if reward is not None and not (math.isfinite(reward) and reward > 0):
+        c.error(problem.goal_reward_pos, f"goal reward must be a positive finite number, not {reward:g}")
     if problem.virtual_objects and ":assumptions" not in set(domain.requirements) | set(problem.requirements):
         c.warn(problem.virtual_objects[0].pos, "virtual objects without the requirement :assumptions")
     return c.out

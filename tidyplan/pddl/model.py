@@ -271,6 +271,7 @@ class Problem:
     path: str = "<problem>"
     domain_pos: Pos = NOWHERE
     pos: Pos = NOWHERE  # where `(define` is
+    goal_reward_pos: Pos = field(default=NOWHERE, compare=False)
 
     @property
     def all_objects(self) -> tuple[Typed, ...]:

@@ -156,6 +156,7 @@ def _model(result, text: str, path: str):
         path=path,
         domain_pos=domain_pos,
         pos=paren_before(define, text),
+        goal_reward_pos=reward[1] if reward else m.NOWHERE,
     )
 
 
