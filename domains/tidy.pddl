@@ -20,9 +20,10 @@
 ;; move costs (travel-time ?from ?to), which the problem gives (tidyplan writes the path
 ;; length k(x,y) at the robot's speed, 0.22 m/s for the HSR, plus 0.8 s for the stop);
 ;; possible_ego_pose_adjustment costs it too (a problem should not give a pair both a path
-;; and a pose adjustment of different times). A take costs 16.5 s, a delivery 12.8 s,
-;; opening a drawer 13.3 s and a drop 10.7 s: each action's mean in the pybullet HSR over 18
-;; WRS Task 1 rooms, failures and retries included (docs/results.md, bench/clock.py).
+;; and a pose adjustment of different times). A take costs 5.7 s, a delivery 10.2 s and
+;; opening a drawer 13.5 s: each action's mean in the pybullet HSR over 18 WRS Task 1 rooms,
+;; failures and retries included (docs/results.md, "Plans in seconds", bench/clock.py); a drop
+;; 10.5 s, the symbolic world's figure (too few drops in those rooms to measure).
 ;; Probabilities are the success rates of the manipulation actions; moves are taken
 ;; as certain.
 ;;
@@ -134,7 +135,7 @@
                  ;; and the way the base backs off to pull a drawer open
                  (forall (?d - deposit)
                    (when (blocks-pull ?o ?d) (not (pull-blocked ?d))))
-                 (increase (total-cost) 16.5)))
+                 (increase (total-cost) 5.7)))
 
   (:action deliver_it
     :parameters (?o - item ?d - deposit ?w - waypoint ?c - category)
@@ -150,7 +151,7 @@
     :effect (and (tidied ?o)
                  (hand-empty)
                  (not (holding ?o))
-                 (increase (total-cost) 12.8)))
+                 (increase (total-cost) 10.2)))
 
   ;; A drawer is pulled open by its handle from where items are put into it, the hand free: the
 ;; base backs off along the slide as the drawer comes out, so a floor item in that way must be
@@ -163,7 +164,7 @@
     :precondition (and (robot-at ?w) (deposit-at ?d ?w) (closed ?d) (hand-empty)
                        (not (pull-blocked ?d)))
     :effect (and (not (closed ?d))
-                 (increase (total-cost) 13.3)))
+                 (increase (total-cost) 13.5)))
 
   ;; ------------------------------------------------------------- stratum 2 (P2)
   (:action possible_ego_pose_adjustment
@@ -188,7 +189,7 @@
                  (hand-empty)
                  (not (holding ?o))
                  (must-move-back)
-                 (increase (total-cost) 10.7)))
+                 (increase (total-cost) 10.5)))
 
   (:action move_back
     :parameters (?from ?to - waypoint)

@@ -5,7 +5,7 @@
 ;; it. Leaving wp-container by path is fine. Stratum 1 alone has no plan (o3 cannot be
 ;; delivered); stratum 2 (P2 = P1 + possible_ego_pose_adjustment) has.
 ;;
-;; Expected optimal plan (seconds: c = 56.32 s of moves + 87.9 s = 144.22):
+;; Expected optimal plan (seconds: c = 56.32 s of moves + 47.7 s = 104.02):
 ;;   move wp-entrance wp-o1 (5.89); take_object o1 wp-o1
 ;;   move wp-o1 wp-tray (6.80); deliver_it o1 tray1 wp-tray food
 ;;   move wp-tray wp-o3 (10.53); take_object o3 wp-o3
@@ -14,7 +14,7 @@
 ;;   deliver_it o3 container-a wp-container kitchen
 ;;   move wp-container wp-o2 (8.75); take_object o2 wp-o2
 ;;   move wp-o2 wp-tray (10.75); deliver_it o2 tray1 wp-tray food
-;; p = 0.95^3 * 0.98^3 = 0.8070, c + 1000(1 - p) = 337.27.
+;; p = 0.95^3 * 0.98^3 = 0.8070, c + 1000(1 - p) = 297.07.
 ;; Note: (travel-time wp-tray wp-container) is the adjustment's time; no path joins them.
 
 (define (problem tidy-p2)

@@ -7,7 +7,7 @@
 ;; then tidy the rest. ob is not in the goal. Strata 1 and 2 have no plan; stratum 3
 ;; (P3 = P2 + drop_object, move_back) has.
 ;;
-;; Expected optimal plan (seconds: c = 51.54 s of moves + 85.8 s = 137.34):
+;; Expected optimal plan (seconds: c = 51.54 s of moves + 48.0 s = 99.54):
 ;;   move wp-entrance wp-ob (11.57); take_object ob wp-ob      ; frees the paths to wp-o1
 ;;   move wp-ob wp-removal (8.94); drop_object ob wp-removal  ; stratum 3
 ;;   move_back wp-removal wp-o2 (3.85)                        ; stratum 3
@@ -15,7 +15,7 @@
 ;;   deliver_it o2 container-a wp-container kitchen
 ;;   move wp-container wp-o1 (6.85); take_object o1 wp-o1
 ;;   move wp-o1 wp-tray (11.35); deliver_it o1 tray1 wp-tray food
-;; p = 0.95^3 * 0.98^2 * 0.98 (drop) = 0.8070, c + 1000(1 - p) = 330.39.
+;; p = 0.95^3 * 0.98^2 * 0.98 (drop) = 0.8070, c + 1000(1 - p) = 292.59.
 
 (define (problem tidy-p3)
   (:domain tidy)

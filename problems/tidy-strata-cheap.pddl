@@ -4,12 +4,12 @@
 ;; cheaper, yet a stratum-1 plan exists, so the stratum-1 plan must be chosen
 ;; (Occam's razor, O-FSM Eq. 1 / docs/dialect.md, strata).
 ;;
-;; Expected plan, stratum 1 (seconds: c = 59.84 s + 58.6 s = 118.44; c + 1000(1 - p) = 251.68):
+;; Expected plan, stratum 1 (seconds: c = 59.84 s + 31.8 s = 91.64; c + 1000(1 - p) = 224.88):
 ;;   move wp-entrance wp-o1 (5.89); take_object o1 wp-o1
 ;;   move wp-o1 wp-tray (6.80); deliver_it o1 tray1 wp-tray food
 ;;   move wp-tray wp-o2 (10.53); take_object o2 wp-o2
 ;;   move wp-o2 wp-container (36.62); deliver_it o2 container-a wp-container kitchen
-;; NOT this cheaper stratum-2 plan (c = 36.82 s + 58.6 s = 95.42; 228.66):
+;; NOT this cheaper stratum-2 plan (c = 36.82 s + 31.8 s = 68.62; 201.86):
 ;;   ... move wp-tray wp-o2 (10.53); take_object o2 wp-o2; move wp-o2 wp-tray (10.53)
 ;;   possible_ego_pose_adjustment wp-tray wp-container (3.07); deliver_it o2 ...
 ;; Both have p = 0.95^2 * 0.98^2 = 0.8668, so only the stratum rule tells them apart.

@@ -273,7 +273,7 @@ async def test_hover_an_action_shows_parameters_probability_stratum_units_and_co
     uri = await opened(client, DOMAIN)
     h = await _hover(client, uri, inside(text, "take_object", "(:action take_object"))
     assert "(take_object ?o - item ?w - waypoint)" in h
-    assert "stratum **P1**" in h and "probability **0.95**" in h and "cost **16.5**" in h
+    assert "stratum **P1**" in h and "probability **0.95**" in h and "cost **5.7**" in h
     assert "(adjust_base ?o) (grasp ?o)" in h
     h = await _hover(client, uri, inside(text, "move", "(:action move\n"))
     assert "cost **(travel-time ?from ?to)**" in h and "probability **1**" in h

@@ -16,8 +16,8 @@ Floor items are not obstacles here: the distances are those of the static map (t
 pre-built occupancy grid); obstruction by floor items is modelled by `blocks` in P3 problems.
 
 Cost model (must match tidy.pddl, whose costs are the robot's seconds): a move its travel time,
-the path's length at the HSR's 0.22 m/s plus a 0.8 s stop (2 decimals); take_object 16.5,
-deliver_it 12.8. ``optimum(..., seconds=False)`` is the same room in metres (a move its length,
+the path's length at the HSR's 0.22 m/s plus a 0.8 s stop (2 decimals); take_object 5.7,
+deliver_it 10.2. ``optimum(..., seconds=False)`` is the same room in metres (a move its length,
 take and deliver 1 each): the cost model of bench/tidygen_rooms.py's encoding.
 """
 
@@ -42,7 +42,7 @@ ENTRANCE = (0.0, -1.6)
 DELIVERY_X = -2.15  # waypoints in front of the deposit wall, just outside the inflation
 CATEGORIES = ("food", "kitchen", "tool", "task")  # the 4 item categories (3 each at 12)
 # tidy.pddl's costs, in seconds (tidyplan.belief.problem.travel_time writes a mission's the same way)
-SPEED, STOP_S, TAKE_S, DELIVER_S = 0.22, 0.8, 16.5, 12.8
+SPEED, STOP_S, TAKE_S, DELIVER_S = 0.22, 0.8, 5.7, 10.2
 
 
 # sizes from the WRS rules; positions from the Gazebo world, except shelf and chair (our choice)
