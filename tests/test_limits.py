@@ -11,8 +11,10 @@ and the tests wait on processes, never sleep.
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -120,6 +122,23 @@ def test_the_translator_worker_dies_with_its_parent(tmp_path):
     parent.stdin.flush()
     parent.wait(timeout=60)
     assert not still_running_after({worker})
+
+
+def test_a_worker_started_by_a_thread_that_ended_still_translates():
+    """`tidyplan serve` answers each request in a thread of its own. Linux sends the parent-death
+    signal when the thread that forked the child ends, not the process: a worker one request
+    started was killed at that request's end, perhaps inside another request's translation."""
+    translator._shared.stop()
+    starter = threading.Thread(target=translator.warm)
+    starter.start()
+    starter.join()
+    while os.path.exists(f"/proc/self/task/{starter.native_id}"):  # gone from the kernel too:
+        time.sleep(0.01)  # the signal, if any, is sent as the thread exits
+    pid = translator._shared.process.pid
+    domain = "(define (domain d) (:predicates (p) (q)) (:action a :precondition (p) :effect (q)))"
+    problem = "(define (problem t) (:domain d) (:init (p)) (:goal (q)))"
+    assert "begin_operator" in translator.translate(domain, problem, time.perf_counter() + 120)
+    assert translator._shared.process.pid == pid  # the same worker answered
 
 
 def test_a_limit_spent_before_the_search_starts_no_search():

@@ -8,7 +8,10 @@ paid once, and `warm()` starts it while our own reading and compiling run). A tr
 that reaches its deadline kills the worker; the next call starts another.
 
 No worker outlives its parent: it is started with the parent-death signal (SIGKILL, Linux's
-`PR_SET_PDEATHSIG`), ends when its input closes, and is killed at exit.
+`PR_SET_PDEATHSIG`), ends when its input closes, and is killed at exit. The signal comes when the
+*thread* that forked the worker ends (prctl(2)), so workers are forked by the main thread or by
+one thread kept for the purpose (`_spawn`): forked by a request thread of `tidyplan serve`, the
+shared worker was killed when that request ended, perhaps inside the next request's translation.
 
 The protocol is one line each way: the parent writes a folder holding `domain.pddl` and
 `problem.pddl`; the worker writes `output.sas` there and answers `ok`, or `error <message>`.
@@ -20,6 +23,7 @@ import atexit
 import contextlib
 import ctypes
 import os
+import queue
 import select
 import signal
 import subprocess
@@ -38,6 +42,38 @@ def _die_with_parent() -> None:  # runs in the child between fork and exec
         ctypes.CDLL("libc.so.6", use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
 
 
+_spawns: queue.Queue = queue.Queue()
+_spawner: threading.Thread | None = None
+_spawner_lock = threading.Lock()
+
+
+def _spawn(command: list[str], **options) -> subprocess.Popen:
+    """``subprocess.Popen`` from a thread that lives as long as the process (the main thread, or
+    a daemon thread started once), so the parent-death signal means the process's death."""
+    global _spawner
+    if threading.current_thread() is threading.main_thread():
+        return subprocess.Popen(command, **options)
+    with _spawner_lock:
+        if _spawner is None:
+            _spawner = threading.Thread(target=_spawn_loop, name="tidyplan-translator-spawner", daemon=True)
+            _spawner.start()
+    answer: queue.Queue = queue.Queue(maxsize=1)
+    _spawns.put((command, options, answer))
+    started, value = answer.get()
+    if not started:
+        raise value
+    return value
+
+
+def _spawn_loop() -> None:
+    while True:
+        command, options, answer = _spawns.get()
+        try:
+            answer.put((True, subprocess.Popen(command, **options)))
+        except BaseException as e:  # noqa: BLE001 - raised in the thread that asked
+            answer.put((False, e))
+
+
 class OutOfTime(Exception):
     """The translation reached its deadline (the worker was killed)."""
 
@@ -51,8 +87,8 @@ class Worker:
     def start(self) -> None:
         if self.process is not None and self.process.poll() is None:
             return
-        self.stop()  # one that ended (its parent thread's end sends the parent-death signal): its pipes
-        self.process = subprocess.Popen(
+        self.stop()  # one that ended (killed at a deadline, or it crashed): its pipes
+        self.process = _spawn(
             [sys.executable, "-m", "tidyplan.planning.translator"],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
