@@ -41,6 +41,7 @@ NOT_FOR_REMOVAL = ("grasp", "deposit", "adjust", "robot")
 # a move's pybullet mean, 10.1 s for 2.0 m, less 2.0 m at 0.22 m/s (docs/results.md)
 STOP_S = 0.8
 TRAVEL_TIME = "travel-time"
+LENGTHS = ("distance", TRAVEL_TIME)  # a path's length in metres, and in the robot's seconds
 
 
 def travel_time(metres: float, speed: float) -> float:
@@ -235,7 +236,10 @@ def _contents(belief, facts, virtual, keep, domain, with_map=True):
         atoms.append(("unexplored", w))
         values.append(("p-item-near", (w,), p))
     if with_map:
-        map_atoms, map_values = _map_part(facts, belief.scenario.robot.speed)
+        # the shipped tidy.pddl (no domain given) costs moves in seconds; another domain gets the
+        # lengths it declares
+        lengths = (TRAVEL_TIME,) if domain is None else tuple(f for f in LENGTHS if domain.function(f))
+        map_atoms, map_values = _map_part(facts, belief.scenario.robot.speed, lengths)
         atoms += map_atoms
         values += map_values
     objects = [(n, "waypoint") for n in sorted(facts.points)] + [(k.name, "item") for k in seen]
@@ -250,12 +254,11 @@ def _contents(belief, facts, virtual, keep, domain, with_map=True):
         declared = {a[0] for a in atoms if domain.predicate(a[0]) is not None}
         atoms = [a for a in atoms if a[0] in declared]
         values = [v for v in values if domain.function(v[0]) is not None]
-    else:  # the shipped tidy.pddl's words (``domain_name`` "tidy"): its moves cost seconds
-        values = [v for v in values if v[0] != "distance"]
     return atoms, values, objects, seen, robot_wp, removal
 
 
-_MAP_PARTS: dict[int, tuple[MapFacts, float, list, list]] = {}  # id(facts) -> (facts, speed, atoms, values)
+# id(facts) -> (facts, (speed, the lengths written), atoms, values)
+_MAP_PARTS: dict[int, tuple[MapFacts, tuple, list, list]] = {}
 _MAP_SETS: dict[int, tuple[MapFacts, frozenset]] = {}  # id(facts) -> (facts, its atoms as a set)
 _MAP_PREDICATES = ("path", "blocked", "blocks", "pose-adjustment")  # the atoms _map_part writes
 
@@ -277,33 +280,38 @@ def _map_set(facts: MapFacts) -> frozenset:
     return _MAP_SETS[id(facts)][1]
 
 
-def _map_part(facts: MapFacts, speed: float) -> tuple[list, list]:
-    """The map's atoms, distances and travel times in order: paths, blocked paths and what blocks
-    them, pose adjustments. Kept for the last few maps: the belief hands out one MapFacts while
-    nothing it depends on changes (never edited after), and the monitor writes after every action."""
+def _map_part(facts: MapFacts, speed: float, lengths: tuple[str, ...]) -> tuple[list, list]:
+    """The map's atoms and ``lengths`` (``distance``, ``travel-time``, as the domain declares) in
+    order: paths, blocked paths and what blocks them, pose adjustments. Kept for the last few
+    maps: the belief hands out one MapFacts while nothing it depends on changes (never edited
+    after), and the monitor writes after every action."""
+    key = (speed, lengths)
     hit = _MAP_PARTS.get(id(facts))
-    if hit is not None and hit[0] is facts and hit[1] == speed:
+    if hit is not None and hit[0] is facts and hit[1] == key:
         return hit[2], hit[3]
     atoms: list[tuple[str, ...]] = []
     values: list[tuple[str, tuple[str, ...], float]] = []
+    metres, seconds = "distance" in lengths, TRAVEL_TIME in lengths
 
-    def lengths(u: str, v: str, d: float) -> None:
-        values.append(("distance", (u, v), round(d, 2)))
-        values.append((TRAVEL_TIME, (u, v), travel_time(d, speed)))
+    def length(u: str, v: str, d: float) -> None:
+        if metres:
+            values.append(("distance", (u, v), round(d, 2)))
+        if seconds:
+            values.append((TRAVEL_TIME, (u, v), travel_time(d, speed)))
 
     for (u, v), d in sorted(facts.path.items()):
         atoms.append(("path", u, v))
-        lengths(u, v, d)
+        length(u, v, d)
     for (u, v), d in sorted(facts.blocked.items()):
         atoms += [("path", u, v), ("blocked", u, v)]
-        lengths(u, v, d)
+        length(u, v, d)
     atoms += [("blocks", item, u, v) for item, u, v in sorted(facts.blocks)]
     for (u, v), d in sorted(facts.adjust.items()):
         atoms.append(("pose-adjustment", u, v))
-        lengths(u, v, d)
+        length(u, v, d)
     if len(_MAP_PARTS) >= 4:
         _MAP_PARTS.clear()
-    _MAP_PARTS[id(facts)] = (facts, speed, atoms, values)
+    _MAP_PARTS[id(facts)] = (facts, key, atoms, values)
     return atoms, values
 
 
