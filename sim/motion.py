@@ -52,8 +52,27 @@ def blocked(now: dict[int, float], before: dict[int, float]) -> list[int]:
     return sorted(b for b, d in now.items() if d > TOUCH and d > before.get(b, 0.0) + TOUCH)
 
 
-def settle(robot: HSR, seconds: float) -> None:
-    """Step the physics for ``seconds`` with the robot holding its posture."""
+REST_SPEED = 0.002  # m/s (and rad/s over ten): a body slower than this has come to rest
+REST_CHECK = 12  # steps between two looks at the bodies' speeds (20 per simulated second)
+REST_AFTER = 0.3  # s stepped at least: a box tipping off a balance starts slowly
+
+
+def settle(robot: HSR, seconds: float, bodies: Iterable[int] = ()) -> float:
+    """Step the physics for ``seconds`` with the robot holding its posture, or until every one of
+    ``bodies`` has come to rest (after REST_AFTER, three looks in a row 0.05 s apart, all slower
+    than REST_SPEED): stepping on would move nothing. The simulated seconds stepped."""
     robot.hold_still()
-    for _ in range(round(seconds / TIME_STEP)):
+    watched = list(bodies)
+    steps, still = round(seconds / TIME_STEP), 0
+    for i in range(1, steps + 1):
         p.stepSimulation(physicsClientId=robot.client)
+        if watched and i % REST_CHECK == 0:
+            still = still + 1 if all(_at_rest(robot.client, b) for b in watched) else 0
+            if still >= 3 and i * TIME_STEP >= REST_AFTER:
+                return i * TIME_STEP
+    return steps * TIME_STEP
+
+
+def _at_rest(client: int, body: int) -> bool:
+    linear, angular = p.getBaseVelocity(body, physicsClientId=client)
+    return max(map(abs, linear)) < REST_SPEED and max(map(abs, angular)) < 10 * REST_SPEED

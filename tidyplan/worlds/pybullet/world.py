@@ -267,7 +267,8 @@ class BulletWorld(Drawers, Hand, HeadCamera, WorldReferee):
     def _settle(self) -> None:
         """Step physics with the robot holding still; then read back where every object rests: a
         release or a fall may knock others over, out of a deposit too (no longer tidied)."""
-        settle(self.hsr, SETTLE_S)
+        # every object the hand does not hold: the one just let go too, still marked held
+        settle(self.hsr, SETTLE_S, [b for n, b in self.bodies.items() if n != self.holding])
         for name, item in self.items.items():
             if item.state == "held":
                 continue
