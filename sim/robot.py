@@ -64,6 +64,7 @@ IK_SEEDS = (
     {"arm_lift_joint": 0.5, "arm_flex_joint": -1.6, "wrist_flex_joint": 0.0},
     {"arm_lift_joint": 0.69, "arm_flex_joint": -0.6, "wrist_flex_joint": -1.0},
 )
+CONVERGED = 1e-6  # rad (or m) a joint moves at most in a re-solve that changes nothing
 REACHED = 0.02  # m: the hand this close to the target counts as there
 TILT = 0.1  # rad: a hand tilted this little from the wanted orientation holds an object upright
 LEVEL = 0.2  # the vertical part of the fingertips' direction below which the hand counts as level
@@ -213,19 +214,24 @@ class HSR:
             for seed in (*self._level_seeds(aim), *IK_SEEDS) if level else IK_SEEDS:
                 self.set_joints(seed)
                 for _ in range(4):  # re-solve from the clamped solution: limits are soft in pybullet
+                    now = [self.q(j.name) for j in movable]
                     sol = p.calculateInverseKinematics(
                         self.body,
                         self.grasp_link,
                         aim,
                         wanted,
                         jointDamping=damping,
-                        currentPositions=[self.q(j.name) for j in movable],
+                        currentPositions=now,
                         maxNumIterations=100,
                         residualThreshold=1e-4,
                         physicsClientId=self.client,
                     )
                     self.set_joints(
                         {j.name: v for j, v in zip(movable, sol, strict=True) if j.name in WHOLE_BODY}
+                    )
+                    # converged: re-solving from where this solve left the joints gives this again
+                    settled = (
+                        max(abs(a - self.q(j.name)) for a, j in zip(now, movable, strict=True)) < CONVERGED
                     )
                     pos, orn = self.hand()
                     err = math.dist(p.multiplyTransforms(pos, orn, carried, (0, 0, 0, 1))[0], target)
@@ -236,11 +242,9 @@ class HSR:
                         wanted is not None
                         and _tilt(p.multiplyTransforms((0, 0, 0), orn, (0, 0, 0), inverse)[1]) > TILT
                     )
-                    if tilted:
-                        continue
-                    if err < best[1]:
+                    if not tilted and err < best[1]:
                         best = ({n: self.q(n) for n in WHOLE_BODY}, err)
-                    if err < 0.005:
+                    if (not tilted and err < 0.005) or (settled and wanted is not None):
                         break
                 if best[1] < 0.005:
                     break
