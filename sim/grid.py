@@ -152,6 +152,19 @@ class OccupancyGrid:
         rows = self._rows(cells)
         return [[None] * len(cells) if row is None else [self._at(row, d) for d in cells] for row in rows]
 
+    def lengths_both_ways(
+        self, a: Point, points: Sequence[Point]
+    ) -> tuple[list[float | None], list[float | None]]:
+        """``path_length`` from a to each of ``points`` and from each of them to a, each read from
+        its source's row as ``path_lengths`` reads it (the rows of ``points`` are usually kept)."""
+        cells = [self.cell(*p) for p in points]
+        ca = self.cell(*a)
+        rows = self._rows([ca, *cells])
+        row_a, others = rows[0], rows[1:]
+        there = [None] * len(cells) if row_a is None else [self._at(row_a, c) for c in cells]
+        back = [None if row is None else self._at(row, ca) for row in others]
+        return there, back
+
     def lengths_from(self, a: Point, points: Sequence[Point]) -> list[float | None]:
         """``path_length`` from a to each of ``points``, with one Dijkstra."""
         (row,) = self._rows([self.cell(*a)])

@@ -26,6 +26,8 @@ def test_facts_after_moves_takes_and_drawers_are_those_of_a_fresh_map(seed):
     room = RoomMap(scenario)
     items = _placed(scenario)
     free = room.grid(()).free_cells(reachable_from=room.entrance)
+    nav = room.grid(())
+    tight = [c for c in room.grid((), bare=True).free_cells() if not nav.free(*c)]
     sticky: dict = {}
     avoid: dict = {}
     out: tuple[Box, ...] = ()
@@ -40,7 +42,8 @@ def test_facts_after_moves_takes_and_drawers_are_those_of_a_fresh_map(seed):
         elif what == "drawer":
             x, y = rng.choice(free)
             out = () if out else (Box(x, y, 0.4, 0.3, "drawer-top"),)
-        robot = (f"wp-robot-{turn}", rng.choice(free))
+        # now and then left in a tight pose the navigation grid has not free (it backs out)
+        robot = (f"wp-robot-{turn}", rng.choice(tight if turn % 4 == 3 else free))
         got = room.facts(items, robot, dict(sticky), avoid, out)
         want = RoomMap(scenario).facts(items, robot, dict(sticky), avoid, out)
         assert got == want, f"turn {turn} ({what})"
@@ -56,15 +59,17 @@ def test_a_move_alone_works_out_only_the_robots_own_waypoint(monkeypatch):
     items = _placed(scenario)
     free = room.grid(()).free_cells(reachable_from=room.entrance)
     room.facts(items, ("wp-robot", free[0]))
-    grasps, searched = [], []
-    add_grasp, find = room._add_grasp, room._find_blockers
+    grasps, searched, pairs_of = [], [], []
+    add_grasp, find, fixed = room._add_grasp, room._find_blockers, room._fixed_paths
     monkeypatch.setattr(room, "_add_grasp", lambda *a, **k: grasps.append(a[1]) or add_grasp(*a, **k))
+    monkeypatch.setattr(room, "_fixed_paths", lambda part, *a: pairs_of.append(part) or fixed(part, *a))
     monkeypatch.setattr(
         room, "_find_blockers", lambda items, pairs, memo: searched.extend(pairs) or find(items, pairs, memo)
     )
     moved = free[len(free) // 2]
     facts = room.facts(items, ("wp-robot", moved))
     assert grasps == []
+    assert pairs_of == []  # the pairs of the waypoints that did not move were kept
     assert all(moved in pair for pair in searched)
     assert facts == RoomMap(scenario).facts(items, ("wp-robot", moved))
 
@@ -99,3 +104,69 @@ def test_the_items_near_a_path_are_those_a_distance_to_each_of_its_cells_finds(s
             want = any(float(np.hypot(p.x - q[0], p.y - q[1])) < r for q in line)
             assert bool(got[n, k]) == want, (n, k)
     assert got.any() and not got.all()
+
+
+def _tight_deposit(scenario):
+    """The scenario with its first deposit approached from a cell the bare base fits but the
+    navigation grid (with its margin) does not: the deposit gets a pose adjustment."""
+    import dataclasses
+
+    room = RoomMap(scenario)
+    nav, bare = room.grid(()), room.grid((), bare=True)
+    d = scenario.deposits[0]
+    tight = sorted(
+        (c for c in bare.free_cells(reachable_from=room.entrance) if not nav.free(*c)),
+        key=lambda c: (abs(c[0] - d.x) + abs(c[1] - d.y), c),
+    )
+    deposits = (dataclasses.replace(d, approach=tight[0]), *scenario.deposits[1:])
+    return dataclasses.replace(scenario, deposits=deposits)
+
+
+@pytest.mark.parametrize("seed", [0, 2, 5])
+def test_the_robots_pairs_are_its_paths_both_ways_to_every_waypoint(seed):
+    """The robot's own pairs (worked out apart from the kept ones): for every other waypoint, a
+    path each way of the navigation grid's length where one exists, else blocked where the
+    static map has one; a robot in a tight pose backs out by a pose adjustment; a deposit's pose
+    adjustment is joined to the robot both ways."""
+    scenario = _tight_deposit(generate("one", seed))
+    rng = random.Random(seed)
+    room = RoomMap(scenario)
+    items = _placed(scenario)
+    nav0 = room.grid(())
+    tight = [
+        c for c in room.grid((), bare=True).free_cells(reachable_from=room.entrance) if not nav0.free(*c)
+    ]
+    free = nav0.free_cells(reachable_from=room.entrance)
+    deposit_wp = next(
+        n for n, k in room.fixed_kind.items() if k == "deposit" and scenario.deposits[0].name in n
+    )
+    base_of_deposit = f"{deposit_wp}-base"
+    for turn, at in enumerate([rng.choice(free), rng.choice(tight), rng.choice(free)]):
+        r = f"wp-robot-{turn}"
+        facts = room.facts(items, (r, at))
+        nav = room.grid([p.box() for p in items if p.on_floor])
+        static = room.grid(())
+        assert facts.kind[base_of_deposit] == "adjust"
+        for n in facts.points:
+            if n == r or facts.kind[n] == "adjust":
+                continue
+            for pair in ((r, n), (n, r)):
+                length, later = (
+                    nav.path_length(*(facts.points[x] for x in pair)),
+                    static.path_length(*(facts.points[x] for x in pair)),
+                )
+                if pair[1] in facts.reach_blockers:
+                    continue  # entered only once what its reach crosses is gone: blocked
+                if length is not None:
+                    assert facts.path[pair] == round(length, 2), pair
+                elif later is not None:
+                    assert facts.blocked[pair] == round(later, 2), pair
+                    assert any(t[1:] == pair for t in facts.blocks), f"{pair}: blocked by nothing"
+                else:
+                    assert pair not in facts.path and pair not in facts.blocked, pair
+        length = nav.path_length(at, facts.points[base_of_deposit])
+        if length is not None:
+            assert facts.path[(r, base_of_deposit)] == facts.path[(base_of_deposit, r)] == round(length, 2)
+        if not nav.free(*at):
+            assert facts.kind[f"{r}-base"] == "adjust"
+            assert (f"{r}-base", r) in facts.adjust and (r, f"{r}-base") in facts.adjust

@@ -36,6 +36,7 @@ Point = tuple[float, float]
 GRASP_MIN, GRASP_BEST, GRASP_MAX = 0.35, 0.45, 0.65
 ADJUST_MAX = 0.60  # m: the longest pose adjustment, a short careful omnidirectional move
 ENTRANCE = "wp-entrance"
+PATHS_KEPT = 8  # sets of fixed waypoints whose pairs a floor keeps (a few components, sticky poses)
 FLOORS_KEPT = 4  # floors whose grasp poses and blockers are kept (a failed grasp's replan sees the last)
 
 
@@ -103,6 +104,7 @@ class _Floor:
     grasp: dict[tuple, MapFacts] = field(default_factory=dict)
     blockers: dict[tuple[Point, Point], tuple[str, ...]] = field(default_factory=dict)
     without: dict[Box, np.ndarray] = field(default_factory=dict)
+    paths: dict[tuple, MapFacts] = field(default_factory=dict)  # _add_paths' fixed pairs
 
 
 class RoomMap:
@@ -338,6 +340,44 @@ class RoomMap:
         return hit
 
     def _add_paths(self, facts: MapFacts, items: Sequence[Placed], nav, static, floor_memo: _Floor) -> None:
+        """The path, blocked, blocks and adjustment facts of every pair of ``facts.points``. The
+        pairs of the fixed waypoints (all but the robot's own) depend on the floor, their points
+        and the part of the room the robot is in, not on where in it the robot stands: they are
+        worked out once per floor and kept (``_Floor.paths``); after a move, only the robot's
+        pairs are new (a turn's cost then grows with the waypoints, not with their pairs)."""
+        names = sorted(facts.points)
+        robots = [n for n in names if facts.kind[n] == "robot"]
+        fixed = [n for n in names if facts.kind[n] != "robot"]
+        component = nav.component(*self._origin)
+        key = (
+            component,
+            None if component else self._origin,
+            tuple((n, facts.points[n], facts.kind[n]) for n in fixed),
+            tuple(facts.reach_blockers.items()),
+        )
+        part = floor_memo.paths.get(key)
+        if part is None:
+            part = MapFacts(
+                points={n: facts.points[n] for n in fixed}, kind={n: facts.kind[n] for n in fixed}
+            )
+            part.reach_blockers = dict(facts.reach_blockers)
+            self._fixed_paths(part, items, nav, static, floor_memo)
+            if len(floor_memo.paths) >= PATHS_KEPT:
+                floor_memo.paths.clear()
+            floor_memo.paths[key] = part
+        for n, q in part.points.items():  # the deposits' adjustment poses
+            if n not in facts.points:
+                facts.points[n], facts.kind[n] = q, part.kind[n]
+        facts.path.update(part.path)
+        facts.blocked.update(part.blocked)
+        facts.blocks.update(part.blocks)
+        facts.adjust.update(part.adjust)
+        bases = [n for n in part.points if n not in fixed]
+        for r in robots:
+            self._robot_paths(facts, items, names, r, bases, nav, static, floor_memo)
+
+    def _fixed_paths(self, facts: MapFacts, items, nav, static, floor_memo: _Floor) -> None:
+        """``_add_paths`` for waypoints none of which is the robot's."""
         names = sorted(facts.points)
         pts = [facts.points[n] for n in names]
         now = nav.path_lengths(pts)
@@ -353,16 +393,50 @@ class RoomMap:
                     facts.blocked[(a, b)] = round(later[i][j], 2)
                     blocked_pairs.append((i, j))
         # Tight deposit poses get an adjustment from their nearest navigable waypoint-free cell.
-        # So does a robot left in a tight pose that is no waypoint any more (the item it was
-        # to grasp from there turned out not to exist): it backs out the way it came.
-        for n in names:
-            if facts.kind[n] == "deposit" and later[names.index(n)][names.index(ENTRANCE)] is None:
-                self._adjust_into(facts, n, nav)
-            elif facts.kind[n] == "robot" and not nav.free(*facts.points[n]):
-                self._adjust_into(facts, n, nav)
+        if ENTRANCE in names:
+            entrance = names.index(ENTRANCE)
+            for i, n in enumerate(names):
+                if facts.kind[n] == "deposit" and later[i][entrance] is None:
+                    self._adjust_into(facts, n, nav)
         if blocked_pairs:
             self._blockers(facts, items, names, pts, blocked_pairs, floor_memo)
-        # A grasp pose whose reach crosses a floor item is entered only once that item is gone.
+        self._reach_blocked(facts, names)
+
+    def _robot_paths(self, facts: MapFacts, items, names, r: str, bases, nav, static, floor_memo) -> None:
+        """The pairs of the robot's waypoint ``r`` with every waypoint in ``names`` and with the
+        deposits' adjustment poses (``bases``), as ``_fixed_paths`` gives the others'. A robot
+        left in a tight pose that is no waypoint any more (the item it was to grasp from there
+        turned out not to exist) gets an adjustment too: it backs out the way it came."""
+        q = facts.points[r]
+        others = [n for n in names if n != r]
+        pts = [facts.points[n] for n in others]
+        now_there, now_back = nav.lengths_both_ways(q, pts)
+        later_there, later_back = static.lengths_both_ways(q, pts)
+        blocked_pairs = []
+        index = {n: k for k, n in enumerate(names)}
+        for n, there, back, later_t, later_b in zip(
+            others, now_there, now_back, later_there, later_back, strict=True
+        ):
+            for (a, b), length, later in (((r, n), there, later_t), ((n, r), back, later_b)):
+                if length is not None:
+                    facts.path[(a, b)] = round(length, 2)
+                elif later is not None:
+                    facts.blocked[(a, b)] = round(later, 2)
+                    blocked_pairs.append((index[a], index[b]))
+        for base in bases:
+            length = nav.path_length(q, facts.points[base])
+            if length is not None:
+                facts.path[(r, base)] = facts.path[(base, r)] = round(length, 2)
+        if not nav.free(*q):
+            self._adjust_into(facts, r, nav)
+        if blocked_pairs:
+            self._blockers(facts, items, names, [facts.points[n] for n in names], blocked_pairs, floor_memo)
+        self._reach_blocked(facts, [r])
+
+    @staticmethod
+    def _reach_blocked(facts: MapFacts, names) -> None:
+        """A grasp pose whose reach crosses a floor item is entered only once that item is gone:
+        from each of ``names``."""
         for g, who in facts.reach_blockers.items():
             for a in names:
                 if (a, g) in facts.path:

@@ -166,10 +166,17 @@ class Belief:
         facts = self.room.facts(self.placed(), robot, self.sticky, avoid, self.drawers_out())
         for item, wp in facts.grasp.items():
             self.sticky[item] = facts.points[wp]
-        for table in (facts.path, facts.adjust):
-            for a, b in list(table):
-                if (facts.points[a], facts.points[b]) in self.blocked_moves:
-                    del table[(a, b)]  # a move found this way blocked: the grid is wrong here
+        if self.blocked_moves:
+            # a move found this way blocked: the grid is wrong here (looked up by the few blocked
+            # moves' points, not by every pair of waypoints)
+            at: dict[Point, list[str]] = {}
+            for name, q in facts.points.items():
+                at.setdefault(q, []).append(name)
+            for qa, qb in self.blocked_moves:
+                for a in at.get(qa, ()):
+                    for b in at.get(qb, ()):
+                        facts.path.pop((a, b), None)
+                        facts.adjust.pop((a, b), None)
         self._facts = (self._facts_key(), facts)
         return facts
 
