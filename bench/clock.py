@@ -5,10 +5,12 @@ costs on the simulated clock in the symbolic world and in pybullet, over the sam
 
 Each argument is a sweep's folder (``tidyplan sweep ... --out DIR``: its ``traces/`` are read).
 Per action kind (move, take_object, deliver_it, open_drawer, ...): the mean seconds an action
-took in each world and the ratio; moves also per metre. Per unit step (a grasp's ``do``, a
+took in each world and the ratio; the base's motions (a move, a move back, a pose adjustment)
+also per metre, and judged by that: the seconds per metre are the clock's model, where a rare
+kind's mean is mostly which lengths the two courses happened to drive. Per unit step (a grasp's ``do``, a
 close look as a unit's ``check``, a sweep): the median seconds in each world. The symbolic
 world's durations (``tidyplan.worlds.symbolic``) are the means of those motions in a pybullet
-sweep; a kind whose means differ by more than the tolerance is marked, and the exit status is 1.
+sweep; a kind that differs by more than the tolerance is marked, and the exit status is 1.
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ import statistics
 import sys
 from collections import defaultdict
 from pathlib import Path
+
+BASE_MOTIONS = ("move", "move_back", "possible_ego_pose_adjustment")  # the base drives: s per metre
 
 
 def read(sweep: Path) -> tuple[dict, dict]:
@@ -64,13 +68,19 @@ def main(argv: list[str] | None = None) -> int:
             continue
         mp, ms = statistics.mean(t for t, _ in p), statistics.mean(t for t, _ in s)
         ratio = ms / mp if mp else float("inf")
-        off = abs(ratio - 1) > args.tolerance
+        per = [sum(t for t, _ in w) / max(sum(m for _, m in w), 1e-9) for w in (p, s)]
+        by_metre = per[1] / per[0] if per[0] else float("inf")
+        # A motion of the base is judged per metre: its mean is the mean of the lengths the two
+        # courses happened to drive (three move_backs of 2.26, 1.34 and 0 m against two of 1.88
+        # and 1.27 m), its seconds per metre the clock's model; every other kind by its mean.
+        judged = by_metre if kind in BASE_MOTIONS else ratio
+        off = abs(judged - 1) > args.tolerance
         bad += off
         mark = "OFF" if off else ""
-        print(f"| {kind} | {len(p)} | {mp:.2f} | {len(s)} | {ms:.2f} | {ratio:.2f} | {mark} |")
-        if kind == "move":
-            per = [sum(t for t, _ in w) / max(sum(m for _, m in w), 1e-9) for w in (p, s)]
-            print(f"| move, per metre | | {per[0]:.2f} | | {per[1]:.2f} | {per[1] / per[0]:.2f} | |")
+        by_mean = "" if kind in BASE_MOTIONS else mark
+        print(f"| {kind} | {len(p)} | {mp:.2f} | {len(s)} | {ms:.2f} | {ratio:.2f} | {by_mean} |")
+        if kind in BASE_MOTIONS:
+            print(f"| {kind}, per metre | | {per[0]:.2f} | | {per[1]:.2f} | {by_metre:.2f} | {mark} |")
     print()
     print("| unit step | pybullet n | median s | symbolic n | median s |")
     print("| --- | --- | --- | --- | --- |")
