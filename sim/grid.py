@@ -152,6 +152,21 @@ class OccupancyGrid:
         rows = self._rows(cells)
         return [[None] * len(cells) if row is None else [self._at(row, d) for d in cells] for row in rows]
 
+    def length_matrix(self, points: Sequence[Point]) -> np.ndarray:
+        """``path_lengths`` as an array: [k, m] the length from points[k] to points[m], NaN where
+        unreachable (or either is not free). One gather per row, not a call per pair."""
+        cells = [self.cell(*p) for p in points]
+        free = np.array([self._free_cell(c) for c in cells], dtype=bool)
+        node = self._node
+        idx = np.array([node[c] if ok else 0 for c, ok in zip(cells, free, strict=True)], dtype=np.int64)
+        out = np.full((len(cells), len(cells)), np.nan)
+        for k, row in enumerate(self._rows(cells)):
+            if row is not None:
+                out[k] = row[idx]
+        out[:, ~free] = np.nan
+        out[~np.isfinite(out)] = np.nan
+        return out
+
     def lengths_both_ways(
         self, a: Point, points: Sequence[Point]
     ) -> tuple[list[float | None], list[float | None]]:

@@ -228,3 +228,26 @@ def test_a_remembered_tree_costs_a_few_bytes_per_free_cell():
     finally:
         tracemalloc.stop()
     assert grown / (len(sources) * len(cells)) < 8
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_length_matrix_and_both_ways_are_path_lengths_read_another_way(seed):
+    """``length_matrix`` (NaN for None) and ``lengths_both_ways`` give ``path_lengths``' values,
+    exactly: points free and not, in two components, the same cell twice."""
+    import random
+
+    rng = random.Random(seed)
+    wall = [
+        Box(2.0, y, 0.1, 0.3, "wall") for y in (0.15, 0.45, 0.75, 1.05, 1.35, 1.65, 1.95, 2.25, 2.55, 2.85)
+    ]
+    grid = OccupancyGrid(ROOM, wall + [Box(rng.uniform(0.5, 3.5), rng.uniform(0.5, 2.5), 0.4, 0.3, "t")])
+    points = [(rng.uniform(0.0, 4.0), rng.uniform(0.0, 3.0)) for _ in range(25)]
+    points.append(points[0])
+    want = grid.path_lengths(points)
+    got = grid.length_matrix(points)
+    assert [[None if math.isnan(v) else v for v in row] for row in got.tolist()] == want
+    assert any(v is None for row in want for v in row) and any(v for row in want for v in row)
+    for k, a in enumerate(points):
+        there, back = grid.lengths_both_ways(a, points)
+        assert there == want[k]
+        assert back == [row[k] for row in want]

@@ -380,23 +380,23 @@ class RoomMap:
         """``_add_paths`` for waypoints none of which is the robot's."""
         names = sorted(facts.points)
         pts = [facts.points[n] for n in names]
-        now = nav.path_lengths(pts)
-        later = static.path_lengths(pts)
-        blocked_pairs = []
-        for i, a in enumerate(names):
-            for j, b in enumerate(names):
-                if i == j:
-                    continue
-                if now[i][j] is not None:
-                    facts.path[(a, b)] = round(now[i][j], 2)
-                elif later[i][j] is not None:
-                    facts.blocked[(a, b)] = round(later[i][j], 2)
-                    blocked_pairs.append((i, j))
+        now = nav.length_matrix(pts)
+        later = static.length_matrix(pts)
+        np.fill_diagonal(now, np.nan)
+        np.fill_diagonal(later, np.nan)
+        drivable = ~np.isnan(now)
+        for i, j in zip(*np.nonzero(drivable), strict=True):
+            facts.path[(names[i], names[j])] = round(float(now[i, j]), 2)
+        blocked_pairs = [
+            (int(i), int(j)) for i, j in zip(*np.nonzero(~drivable & ~np.isnan(later)), strict=True)
+        ]
+        for i, j in blocked_pairs:
+            facts.blocked[(names[i], names[j])] = round(float(later[i, j]), 2)
         # Tight deposit poses get an adjustment from their nearest navigable waypoint-free cell.
         if ENTRANCE in names:
             entrance = names.index(ENTRANCE)
             for i, n in enumerate(names):
-                if facts.kind[n] == "deposit" and later[i][entrance] is None:
+                if facts.kind[n] == "deposit" and np.isnan(later[i, entrance]):
                     self._adjust_into(facts, n, nav)
         if blocked_pairs:
             self._blockers(facts, items, names, pts, blocked_pairs, floor_memo)
