@@ -35,7 +35,8 @@ import sys
 from pathlib import Path
 
 from sim.scenario.model import ORIENTATION
-from tidyplan.belief.geometry import ENTRANCE, Placed, RoomMap, deposit_waypoint
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.mapfacts import ENTRANCE, Placed, deposit_waypoint
 from tidyplan.loop.deadline import improve
 from tidyplan.loop.scenarios import load_scenario
 from tidyplan.trace.score import TIME_LIMIT_S

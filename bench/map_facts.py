@@ -22,7 +22,8 @@ sys.path.insert(0, str(ROOT))
 def main(argv: list[str]) -> int:
     from sim.scenario.model import ScenarioError
     from sim.scenario.read import load
-    from tidyplan.belief.geometry import Placed, RoomMap
+    from tidyplan.belief.geometry import RoomMap
+    from tidyplan.belief.mapfacts import Placed
 
     if not argv:
         print(__doc__.strip().splitlines()[2].strip(), file=sys.stderr)

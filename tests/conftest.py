@@ -225,3 +225,19 @@ def _hypothesis_home(config: pytest.Config) -> None:
     home = tempfile.mkdtemp(prefix="tidyplan-hypothesis-")
     set_hypothesis_home_dir(home)
     config.add_cleanup(lambda: shutil.rmtree(home, ignore_errors=True))
+
+
+@pytest.fixture(scope="module")
+def case1():
+    """Case I's room in pybullet (perception without misses), the robot parked in the middle, out
+    of the way: the physics tests' room (tests/test_containment.py, tests/test_settle.py)."""
+    from sim.scenario.read import load
+    from tidyplan.belief.geometry import RoomMap
+    from tidyplan.worlds.pybullet.world import BulletWorld
+    from tidyplan.worlds.rates import Rates
+
+    scenario = load(Path(__file__).resolve().parents[1] / "problems" / "case1.toml")
+    world = BulletWorld(scenario, RoomMap(scenario), rates=Rates(false_negative=0.0, false_positive=0.0))
+    world.hsr.set_base(-1.4, -0.3)
+    yield world
+    world.close()

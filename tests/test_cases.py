@@ -12,7 +12,8 @@ import pytest
 
 from sim.scenario.read import load
 from sim.visibility import visible_items
-from tidyplan.belief.geometry import ENTRANCE, Placed, RoomMap, deposit_waypoint
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.mapfacts import ENTRANCE, Placed, deposit_waypoint
 from tidyplan.loop.mission import run
 from tidyplan.loop.options import Settings
 from tidyplan.worlds.rates import Rates

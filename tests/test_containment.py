@@ -19,27 +19,14 @@ import pytest
 
 from sim.motion import settle
 from sim.room import DOOR
-from sim.scenario.read import load
-from tidyplan.belief.geometry import RoomMap
 from tidyplan.worlds.pybullet.world import BulletWorld
-from tidyplan.worlds.rates import Rates
 
 pytestmark = pytest.mark.slow
 
-CASE1 = Path(__file__).resolve().parents[1] / "problems" / "case1.toml"
+CASE1 = Path(__file__).resolve().parents[1] / "problems" / "case1.toml"  # the `case1` fixture's room
 SPEEDS = (1.0, 2.0, 3.0)  # m/s towards the wall
 IN = 0.15  # m from a wall to an item's centre
 KNOCK = 12.0  # rad/s: an item tipped over towards the wall as it goes
-
-
-@pytest.fixture(scope="module")
-def case1():
-    """Case I's room in pybullet, the robot parked in the middle, out of the way."""
-    scenario = load(CASE1)
-    world = BulletWorld(scenario, RoomMap(scenario), rates=Rates(false_negative=0.0, false_positive=0.0))
-    world.hsr.set_base(-1.4, -0.3)
-    yield world
-    world.close()
 
 
 def _outside(world: BulletWorld) -> dict[str, tuple[float, float]]:

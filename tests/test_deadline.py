@@ -12,7 +12,8 @@ import pytest
 from sim.scenario.read import loads
 from tests.test_loop import ROOM as LOOP_ROOM
 from tests.test_loop import _events, _items
-from tidyplan.belief.geometry import RoomMap, deposit_waypoint
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.mapfacts import deposit_waypoint
 from tidyplan.belief.percepts import Detection
 from tidyplan.belief.problem import robot_waypoint
 from tidyplan.belief.state import Belief

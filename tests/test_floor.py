@@ -10,7 +10,8 @@ from pathlib import Path
 import pytest
 
 from tests.test_loop import EXACT, _scenario
-from tidyplan.belief.geometry import ENTRANCE, Placed, RoomMap, deposit_waypoint
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.mapfacts import ENTRANCE, Placed, deposit_waypoint
 from tidyplan.loop.mission import run
 from tidyplan.loop.options import Settings
 

@@ -9,7 +9,8 @@ import random
 import pytest
 
 from sim.grid import Box
-from tidyplan.belief.geometry import Placed, RoomMap
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.mapfacts import Placed
 from tidyplan.generate.rooms import generate
 
 

@@ -61,7 +61,7 @@ def test_a_robot_shut_in_a_corner_by_an_item_it_dropped_grasps_it_from_where_it_
     from the entrance: with that, every way out was blocked by the item and no plan could start
     (case III with faults, seed 1: a cup dropped beside the container)."""
     from tests.test_loop import _scenario
-    from tidyplan.belief.geometry import Placed
+    from tidyplan.belief.mapfacts import Placed
 
     scenario = _scenario("pocket", [("t1", 0.9, 2.5)])
     room = RoomMap(scenario)

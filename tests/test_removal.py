@@ -72,7 +72,7 @@ def test_the_item_in_hand_goes_down_beside_the_robot_when_no_removal_waypoint_is
     # the drawer and the way to the one removal waypoint. Taking the box needs a free hand.
     from types import SimpleNamespace
 
-    from tidyplan.belief.geometry import MapFacts
+    from tidyplan.belief.mapfacts import MapFacts
     from tidyplan.belief.problem import removal_choices
 
     facts = MapFacts(

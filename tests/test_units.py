@@ -11,7 +11,8 @@ from dataclasses import replace
 import pytest
 
 from tests.test_loop import EXACT, _scenario
-from tidyplan.belief.geometry import Placed, RoomMap
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.mapfacts import Placed
 from tidyplan.loop.mission import run
 from tidyplan.loop.options import Settings
 from tidyplan.monitor.unit import FailureClass, StateMonitor
@@ -294,7 +295,7 @@ def test_an_item_the_arm_did_not_reach_is_grasped_from_another_pose_next_time():
     """The map's reach is a distance, the arm's is not: a take that found no base pose, or whose
     arm did not reach, is not tried from the same pose again (wrs-task1-s106, pybullet: a spoon
     on the floor between two tables, tried 0.64 m out from one pose until given up)."""
-    from tidyplan.belief.geometry import grasp_waypoint
+    from tidyplan.belief.mapfacts import grasp_waypoint
     from tidyplan.belief.percepts import Detection
     from tidyplan.belief.state import Belief
 

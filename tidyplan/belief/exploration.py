@@ -22,7 +22,8 @@ import numpy as np
 from sim.scenario.model import Scenario
 from sim.visibility import Box3, in_frame, visible_points
 from tidyplan.belief import viewpoints
-from tidyplan.belief.geometry import MapFacts, RoomMap
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.mapfacts import MapFacts
 from tidyplan.belief.percepts import SWEEP_STOPS, Frame, in_stops
 
 Point = tuple[float, float]

@@ -28,70 +28,14 @@ import numpy as np
 
 from sim.grid import Box, OccupancyGrid
 from sim.scenario.model import Scenario
-
-Point = tuple[float, float]
+from tidyplan.belief.mapfacts import ENTRANCE, MapFacts, Placed, Point, deposit_waypoint, grasp_waypoint
 
 # m from the item: the arm's comfortable reach; the minimum keeps the pose outside the item's own
 # inflation (0.27 m + half its 8 cm), so an item never blocks the pose it is grasped from
 GRASP_MIN, GRASP_BEST, GRASP_MAX = 0.35, 0.45, 0.65
 ADJUST_MAX = 0.60  # m: the longest pose adjustment, a short careful omnidirectional move
-ENTRANCE = "wp-entrance"
 PATHS_KEPT = 8  # sets of fixed waypoints whose pairs a floor keeps (a few components, sticky poses)
 FLOORS_KEPT = 4  # floors whose grasp poses and blockers are kept (a failed grasp's replan sees the last)
-
-
-@dataclass(frozen=True, slots=True)
-class Placed:
-    """An item where someone (the belief or the truth) has it: on the floor or on furniture."""
-
-    name: str
-    category: str
-    x: float
-    y: float
-    on: str = "floor"
-    sx: float = 0.08
-    sy: float = 0.08
-    # Fell where no look has found it yet: (x, y) is only where the robot stood, so it is no
-    # obstacle on the map (put there it shut the robot in on every side, and no plan could start).
-    loose: bool = False
-
-    @property
-    def xy(self) -> Point:
-        return (self.x, self.y)
-
-    @property
-    def on_floor(self) -> bool:
-        """On the floor where the map knows it: an obstacle to the base."""
-        return self.on == "floor" and not self.loose
-
-    def box(self) -> Box:
-        return Box(self.x, self.y, self.sx, self.sy, self.name)
-
-
-@dataclass(slots=True)
-class MapFacts:
-    """What the grid says for one set of placed items; the problem writer's input.
-
-    ``points`` maps every waypoint name to (x, y); ``kind`` to one of entrance, viewpoint,
-    deposit, grasp, adjust, robot. Pairs are ordered (from, to). A pair is in at most one of
-    ``path`` (drivable now) and ``blocked`` (drivable once its blockers are taken).
-    """
-
-    points: dict[str, Point] = field(default_factory=dict)
-    kind: dict[str, str] = field(default_factory=dict)
-    grasp: dict[str, str] = field(default_factory=dict)  # item -> its grasp waypoint
-    unreachable: list[str] = field(default_factory=list)  # items with no grasp pose at all
-    path: dict[tuple[str, str], float] = field(default_factory=dict)
-    blocked: dict[tuple[str, str], float] = field(default_factory=dict)
-    blocks: set[tuple[str, str, str]] = field(default_factory=set)  # (item, from, to)
-    adjust: dict[tuple[str, str], float] = field(default_factory=dict)
-    reach_blockers: dict[str, tuple[str, ...]] = field(default_factory=dict)  # grasp wp -> items
-
-    def distance(self, a: str, b: str) -> float | None:
-        for table in (self.path, self.blocked, self.adjust):
-            if (a, b) in table:
-                return table[(a, b)]
-        return None
 
 
 @dataclass(slots=True)
@@ -590,14 +534,6 @@ def _crosses(a: Point, b: Point, box: Box) -> bool:
     return any(
         box.clearance(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) == 0.0 for k in range(n + 1)
     )
-
-
-def grasp_waypoint(item: str) -> str:
-    return f"wp-{item}"
-
-
-def deposit_waypoint(deposit: str) -> str:
-    return f"wp-{deposit}"
 
 
 def _box_key(b: Box) -> tuple:

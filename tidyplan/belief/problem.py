@@ -26,7 +26,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from sim.scenario.model import ORIENTATION, drawer_layout
-from tidyplan.belief.geometry import MapFacts, deposit_waypoint
+from tidyplan.belief.mapfacts import MapFacts, deposit_waypoint
 from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import COST, GOAL, VOCABULARY
 from tidyplan.pddl import model as m

@@ -34,7 +34,8 @@ from sim.scenario.model import DrawerLayout, Scenario, drawer_layout, out_boxes
 from sim.visibility import GLANCE_TILT_DEG, Box3, in_frame, visible
 from tidyplan.belief import viewpoints
 from tidyplan.belief.exploration import LOST_RADIUS, Exploration
-from tidyplan.belief.geometry import ENTRANCE, MapFacts, Placed, RoomMap
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.mapfacts import ENTRANCE, MapFacts, Placed
 from tidyplan.belief.percepts import MISS_EDGE_DEG, MISS_WIDTH, SWEEP_STOPS, Detection, Frame, in_stops
 
 Point = tuple[float, float]

@@ -108,7 +108,7 @@ def check_facts(domain: m.Domain, scenario) -> list[Diagnostic]:
     """A scenario's ``facts`` against the domain: each of a predicate it declares, with as many
     arguments, none of the words the writer fills from the belief, each argument a name the
     problems have (a deposit, a category, a viewpoint, a deposit's waypoint) or a constant."""
-    from tidyplan.belief.geometry import ENTRANCE, deposit_waypoint
+    from tidyplan.belief.mapfacts import ENTRANCE, deposit_waypoint
 
     names = {d.name for d in scenario.deposits} | {d.category for d in scenario.deposits}
     names |= {v.name for v in scenario.viewpoints} | {deposit_waypoint(d.name) for d in scenario.deposits}

@@ -23,7 +23,7 @@ import math
 from dataclasses import dataclass
 
 from sim.scenario.model import ORIENTATION
-from tidyplan.belief.geometry import MapFacts, deposit_waypoint
+from tidyplan.belief.mapfacts import MapFacts, deposit_waypoint
 from tidyplan.belief.problem import STOP_S, robot_waypoint
 from tidyplan.belief.state import Belief
 

@@ -9,7 +9,7 @@ the time left comes before it (``tidyplan.loop.deadline``).
 
 from __future__ import annotations
 
-from tidyplan.belief.geometry import MapFacts
+from tidyplan.belief.mapfacts import MapFacts
 from tidyplan.belief.problem import robot_waypoint
 from tidyplan.belief.state import Belief
 from tidyplan.loop.deadline import Deadline

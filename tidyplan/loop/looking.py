@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections import Counter
 
-from tidyplan.belief.geometry import deposit_waypoint
+from tidyplan.belief.mapfacts import deposit_waypoint
 from tidyplan.belief.percepts import Detection
 from tidyplan.belief.problem import robot_waypoint
 from tidyplan.belief.state import Belief

@@ -1,0 +1,74 @@
+"""What the map says, as data: the items placed on it (``Placed``), the facts a placement gives
+(``MapFacts``: waypoints, paths, what blocks them, pose adjustments; the problem writer's input)
+and the waypoints' names. ``tidyplan.belief.geometry.RoomMap`` works the facts out."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from sim.grid import Box
+
+Point = tuple[float, float]
+ENTRANCE = "wp-entrance"
+
+
+@dataclass(frozen=True, slots=True)
+class Placed:
+    """An item where someone (the belief or the truth) has it: on the floor or on furniture."""
+
+    name: str
+    category: str
+    x: float
+    y: float
+    on: str = "floor"
+    sx: float = 0.08
+    sy: float = 0.08
+    # Fell where no look has found it yet: (x, y) is only where the robot stood, so it is no
+    # obstacle on the map (put there it shut the robot in on every side, and no plan could start).
+    loose: bool = False
+
+    @property
+    def xy(self) -> Point:
+        return (self.x, self.y)
+
+    @property
+    def on_floor(self) -> bool:
+        """On the floor where the map knows it: an obstacle to the base."""
+        return self.on == "floor" and not self.loose
+
+    def box(self) -> Box:
+        return Box(self.x, self.y, self.sx, self.sy, self.name)
+
+
+@dataclass(slots=True)
+class MapFacts:
+    """What the grid says for one set of placed items; the problem writer's input.
+
+    ``points`` maps every waypoint name to (x, y); ``kind`` to one of entrance, viewpoint,
+    deposit, grasp, adjust, robot. Pairs are ordered (from, to). A pair is in at most one of
+    ``path`` (drivable now) and ``blocked`` (drivable once its blockers are taken).
+    """
+
+    points: dict[str, Point] = field(default_factory=dict)
+    kind: dict[str, str] = field(default_factory=dict)
+    grasp: dict[str, str] = field(default_factory=dict)  # item -> its grasp waypoint
+    unreachable: list[str] = field(default_factory=list)  # items with no grasp pose at all
+    path: dict[tuple[str, str], float] = field(default_factory=dict)
+    blocked: dict[tuple[str, str], float] = field(default_factory=dict)
+    blocks: set[tuple[str, str, str]] = field(default_factory=set)  # (item, from, to)
+    adjust: dict[tuple[str, str], float] = field(default_factory=dict)
+    reach_blockers: dict[str, tuple[str, ...]] = field(default_factory=dict)  # grasp wp -> items
+
+    def distance(self, a: str, b: str) -> float | None:
+        for table in (self.path, self.blocked, self.adjust):
+            if (a, b) in table:
+                return table[(a, b)]
+        return None
+
+
+def grasp_waypoint(item: str) -> str:
+    return f"wp-{item}"
+
+
+def deposit_waypoint(deposit: str) -> str:
+    return f"wp-{deposit}"
