@@ -309,14 +309,13 @@ class RoomMap:
             if len(floor_memo.paths) >= PATHS_KEPT:
                 floor_memo.paths.clear()
             floor_memo.paths[key] = part
-        for n, q in part.points.items():  # the deposits' adjustment poses
-            if n not in facts.points:
-                facts.points[n], facts.kind[n] = q, part.kind[n]
+        bases = [n for n in part.points if n not in facts.points]  # the deposits' adjustment poses
+        for n in bases:
+            facts.points[n], facts.kind[n] = part.points[n], part.kind[n]
         facts.path.update(part.path)
         facts.blocked.update(part.blocked)
         facts.blocks.update(part.blocks)
         facts.adjust.update(part.adjust)
-        bases = [n for n in part.points if n not in fixed]
         for r in robots:
             self._robot_paths(facts, items, names, r, bases, nav, static, floor_memo)
 
