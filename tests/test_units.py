@@ -291,6 +291,43 @@ def test_after_a_bump_the_close_look_goes_where_the_base_touched_else_along_its_
     )
 
 
+def test_a_drive_the_bumper_stopped_is_retried_round_what_a_close_look_found_there():
+    """What the base ran into lies at its edge, nearer than the head camera sees the floor: a
+    sweep there finds nothing, and the retry drove into it again. The retry's check looks close
+    where the bumper touched; what it finds is on the map, and the path goes round it
+    (wrs-task1-s000, pybullet: four sweeps saw nothing, 31 s, then a replan)."""
+    from tidyplan.belief.state import Belief
+    from tidyplan.exec.units import Context, Navigate
+
+    toy = (1.5, 1.0)
+    scenario = _scenario("bumped", [("t1", *toy)])
+    room = RoomMap(scenario)
+    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
+    pose = (1.0, 1.0)
+    world.robot = pose
+    belief = Belief(scenario, room)
+    belief.robot = pose
+    sweeps = []
+
+    def observe(detections, waypoint, why="", **kw):
+        sweeps.append(why)
+        return []
+
+    ctx = Context(world, belief, observe)
+    unit = Navigate(ctx, (2.2, 1.0), "wp-east")
+    assert unit.check() is None and unit.plan() is None
+    assert min(math.dist(q, toy) for q in unit.path) < 0.05  # the belief has no toy: straight on
+    unit.touched = (toy[0] - 0.04, toy[1])  # the bumper's front touched it
+    assert unit.check() is None  # the retry's check
+    assert sweeps == []  # no sweep: it lies too near for one
+    assert [belief.items[n].category for n in ctx.new] == ["toy"]
+    assert unit.plan() is None
+    assert min(math.dist(q, toy) for q in unit.path) > room.bare_radius  # round it
+    # with no touch to go by (a transient obstacle, the fault), the sweep of the way ahead
+    unit.touched = None
+    assert unit.check() is None and sweeps == ["a drive stopped: what is in the way now?"]
+
+
 def test_an_item_the_arm_did_not_reach_is_grasped_from_another_pose_next_time():
     """The map's reach is a distance, the arm's is not: a take that found no base pose, or whose
     arm did not reach, is not tried from the same pose again (wrs-task1-s106, pybullet: a spoon

@@ -69,7 +69,12 @@ class Navigate(Unit):
 
     def check(self):
         self.tries += 1
-        if self.tries > 1:  # what stopped it is ahead: the stops around the way it was going
+        if self.tries > 1 and self.touched is not None:
+            # the bumper touched it: it lies at the base's edge, nearer than the head camera sees
+            # the floor, where a sweep finds nothing. Found by a close look, it is on the map and
+            # the retry's path goes round it (wrs-task1-s000: four sweeps saw nothing, 31 s)
+            self._close_look()
+        elif self.tries > 1:  # what stopped it is ahead: the stops around the way it was going
             heading = _way_ahead(self.ctx.world.pose(), self.path or [self.goal])
             self.ctx.look(why="a drive stopped: what is in the way now?", stops=_stops_around(heading))
         return None
@@ -137,14 +142,18 @@ class Navigate(Unit):
         belief = self.ctx.belief
         belief.blocked_moves |= {(self.ctx.start or belief.robot, self.goal), (belief.robot, self.goal)}
         if failure.what == "path_blocked":
-            # look where the base touched it (the bumper's side), else where it was going: what
-            # stopped it lies there, too near for a sweep (the head sees the floor from about
-            # 0.7 m out); the close look steps back for it. Ahead alone missed a low box 40
-            # degrees aside, out of the camera's field (wrs-task1-s004: 750 s pinned)
-            found = self.ctx.world.locate(self._ahead(belief.robot, self.touched), BUMP_RADIUS)
-            new = belief.bumped(found) if found is not None else None
-            if new is not None:
-                self.ctx.new.append(new)
+            self._close_look()
+
+    def _close_look(self) -> None:
+        """A close look where the base touched what stopped it (the bumper's side), else where it
+        was going: it lies there, too near for a sweep (the head sees the floor from about 0.7 m
+        out); the close look steps back for it. Ahead alone missed a low box 40 degrees aside,
+        out of the camera's field (wrs-task1-s004: 750 s pinned). What it finds is on the map."""
+        belief = self.ctx.belief
+        found = self.ctx.world.locate(self._ahead(belief.robot, self.touched), BUMP_RADIUS)
+        new = belief.bumped(found) if found is not None else None
+        if new is not None:
+            self.ctx.new.append(new)
 
     def _ahead(self, here: Point, touched: Point | None = None) -> Point:
         """The point BUMP_AHEAD m from ``here`` towards where the base ``touched`` something, or
