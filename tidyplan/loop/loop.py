@@ -32,11 +32,11 @@ from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from tidyplan.belief.problem import Snapshot, belief_state, write
+from tidyplan.belief.problem import Snapshot, belief_state, robot_waypoint, write
 from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import VOCABULARY
 from tidyplan.loop.counting import Counters
-from tidyplan.loop.looking import Excursions
+from tidyplan.loop.looking import Excursions, inspection_tour
 from tidyplan.loop.options import DEFAULTS
 from tidyplan.loop.replanning import Replanner
 from tidyplan.loop.triggers import Cause, bind, check_assumptions
@@ -280,11 +280,13 @@ class Mission:
         return verdict
 
     def _inspect_deposits(self) -> list[str]:
-        """Look into every deposit that should hold items; the items lost (not there)."""
+        """Look into every deposit that should hold items, on the shortest tour from where the
+        robot stands; the items lost (not there)."""
+        facts = self.belief.facts()
+        full = [d.name for d in self.belief.scenario.deposits if self.belief.in_deposit(d.name)]
         lost: list[str] = []
-        for d in self.belief.scenario.deposits:
-            if self.belief.in_deposit(d.name):
-                lost += self.excursions.inspect(d.name, self._map_now())
+        for deposit in inspection_tour(facts, robot_waypoint(facts, self.belief), full):
+            lost += self.excursions.inspect(deposit, self._map_now())
         return lost
 
     # ------------------------------------------------------------------ planning
