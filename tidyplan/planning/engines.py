@@ -79,10 +79,12 @@ DEFAULT_ENGINE = "lama-optimal"
 # A mission's problems leave (shortest-paths) out (docs/planner.md): with every move open the
 # optimal search needs about 2 s, so it would only take the simulation's core.
 MISSION_ENGINE = "lama"
-# ... whose improvement a mission ends once no cheaper plan came for this many seconds: on 36
-# problems of missions (bench/patience.py) 35 plans were as good as with the whole 1 s and the
-# worst was 3.1% dearer, in a median 0.60 s instead of 1.10 s; 0.25 s lost on 4 of 36.
-MISSION_PATIENCE = 0.5
+# ... whose improvement a mission ends once no cheaper plan came for this many seconds: on the
+# 33 problems of missions of `python bench/patience.py --seeds 2 --repeat 2 --patience 0.3,0.5`
+# (costs in seconds, 2026-12-07) 0.3 s and 0.5 s each gave 31 plans as good as the whole 1 s
+# (worst 1.2% dearer), in a median 0.41 s against 0.61 s; ten Task 1 rooms in pybullet took
+# 13164 s against 13196 s in all (docs/planner.md, "Patience").
+MISSION_PATIENCE = 0.3
 DEFAULT_TIME_BUDGET = 1.0  # seconds an anytime engine improves its first plan
 DEFAULT_FIRST_PLAN_LIMIT = 60.0  # seconds to find a first plan, for the whole call
 
