@@ -383,6 +383,36 @@ def test_each_look_after_an_action_says_what_it_was_for():
     assert min(abs((h - toward + math.pi) % math.tau - math.pi) for h in stops) <= math.pi / 7
 
 
+def test_after_a_failure_at_an_item_the_look_sweeps_where_it_may_be_not_all_around():
+    """An approach or a grasp that failed at an item (not found where believed, or reached from
+    nowhere): the sweep after it takes the stops that expect to find something, around where
+    the item was lost; where nothing is left to find, only the glance. Without an item (a drive
+    that failed), and without a prior, all around as before."""
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.belief.state import Belief
+    from tidyplan.exec.units import Context, Look
+
+    scenario = _scenario("why-failed", [("t1", 1.8, 1.0), ("t2", 0.6, 2.6)])
+    room = RoomMap(scenario)
+    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
+    belief = Belief(scenario, room)
+    belief.robot = world.robot
+    ctx = Context(world, belief, lambda d, w, why="": [])
+    belief.observe([Detection("toy", 1.8, 1.0, "floor"), Detection("toy", 0.6, 2.6, "floor")], None)
+    t1 = next(k.name for k in belief.items.values() if (k.x, k.y) == (1.8, 1.0))
+    t2 = next(k.name for k in belief.items.values() if (k.x, k.y) == (0.6, 2.6))
+    assert Look(ctx, None, after_failure=True, failed_at=t2).why() is None  # nothing lost: a glance
+    assert Look(ctx, None, after_failure=True).why() == ("after a failure: what changed?", None)
+    belief.lost(t1)  # the close look did not find it: the space around its place is unseen again
+    why, stops = Look(ctx, None, after_failure=True, failed_at=t1).why()
+    assert why.startswith(f"after a failure at {t1}: ") and why.endswith("of 7 stops)")
+    assert stops is not None and 0 < len(stops) < 7  # not all around
+    toward = math.atan2(1.0 - world.robot[1], 1.8 - world.robot[0])
+    assert min(abs((h - toward + math.pi) % math.tau - math.pi) for h in stops) <= math.pi / 7
+    belief.prior = None  # nothing says an item is missing: all around, as before
+    assert Look(ctx, None, after_failure=True, failed_at=t1).why() == ("after a failure: what changed?", None)
+
+
 def test_after_an_action_where_no_sweep_pays_the_robot_glances_in_no_time():
     """The Look unit: the frames on the way and one from here, for the monitor, at no cost; a
     sweep only where one pays. A frame counts misses only in its own field: an item behind the

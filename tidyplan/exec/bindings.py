@@ -100,11 +100,15 @@ class MonitoredExecutor:
 
         held = ctx.belief.holding
         result = Runner(self.config, emit).run(list(units))
+        failed_at = None
         if not result.ok and result.where is not None:
+            if isinstance(result.where, AdjustBase | Grasp):
+                failed_at = result.where.item
             result.where.learn(result.failure)
         here = _waypoint_at(snapshot, ctx.belief)
         took = ctx.belief.holding if ctx.belief.holding != held else None
-        Runner(self.config, emit).run([Look(ctx, here, after_failure=not result.ok, took=took)])
+        look = Look(ctx, here, after_failure=not result.ok, took=took, failed_at=failed_at)
+        Runner(self.config, emit).run([look])
         return Report(
             result.ok,
             None if result.ok else result.failure.what,
