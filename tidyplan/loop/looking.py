@@ -7,6 +7,10 @@
   to the belief, to be found and tidied again. The deposits are visited on the shortest tour
   the robot finds from where it stands (``inspection_tour``): in the scenario's order the ten
   Task 1 rooms' tours were 6.4 m where 3.7 m would do (wrs-task1-s000).
+- A deposit the robot has just put an item into, when nothing the belief knows of or expects
+  is left for it, is looked into there and then: the robot stands at it already, so the tour at
+  the end leaves it out, unless something is put into it after that look. The ten Task 1 rooms
+  spent 42 s each after their last put, touring the deposits.
 - Before it gives up on an item no plan reaches, the robot drives to a waypoint from which a
   look should see it, and looks: a false detection, or an item that moved, is forgotten there.
 """
@@ -116,6 +120,11 @@ class Excursions:
         report = self.move(deposit_waypoint(deposit), "inspect_deposit", snapshot)
         if not report.ok:
             return []
+        return self.look_into(deposit)
+
+    def look_into(self, deposit: str) -> list[str]:
+        """Look into ``deposit`` from where the robot stands at it, up to LOOKS_INTO times until
+        each item believed there is seen; returns the items lost (not there)."""
         believed = Counter(k.category for k in self.belief.in_deposit(deposit))
         shown: dict[tuple, Detection] = {}  # distinct items over the looks, by category and place
         for _ in range(LOOKS_INTO):

@@ -32,6 +32,7 @@ from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from sim.scenario.model import ORIENTATION
 from tidyplan.belief.problem import Snapshot, belief_state, robot_waypoint, write
 from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import VOCABULARY
@@ -112,6 +113,9 @@ class Mission:
         self._why: Counter[tuple[str, str]] = Counter()  # (cause, why) -> replans: what repeated
         self._went_to_look: Counter[str] = Counter()  # item -> drives to look at it before giving up
         self._verified_at: int | None = None  # actions done when the deposits were last looked into
+        # deposit -> actions done at the last put into it, and when it was last looked into
+        self._put_into: dict[str, int] = {}
+        self._looked_into: dict[str, int] = {}
         self._plain = trace.save("domain.pddl", self.domain_text)
         self.replanner = Replanner(
             self.domain,
@@ -194,7 +198,26 @@ class Mission:
         self.count.action(step, report, self.belief.holding is not None)
         fields = events.action(step.text, step.stratum, report, self.belief.robot, delivered=report.delivered)
         self.trace.emit("action", **fields)
+        if report.delivered is not None:
+            self._after_put(report.delivered)
         return self._monitor(report.new, report, step)
+
+    def _after_put(self, item: str) -> None:
+        """The robot stands at the deposit it just put ``item`` into: where nothing is left for
+        that deposit (no item known untidied, no virtual object, of its category; for the
+        orientation deposit, none at all), it looks into it now, and the tour at the end of the
+        mission need not come back (``_inspect_deposits``)."""
+        deposit = self.belief.items[item].deposit
+        if deposit is None:
+            return
+        self._put_into[deposit] = self.count.actions
+        category = next(d.category for d in self.belief.scenario.deposits if d.name == deposit)
+        left = [k.category for k in self.belief.untidied() if k.name not in self.belief.undeliverable]
+        left += [c for _, c in self.belief.virtual()]
+        if (category == ORIENTATION and left) or category in left:
+            return
+        self.excursions.look_into(deposit)
+        self._looked_into[deposit] = self.count.actions
 
     def _monitor(self, new: list[str], report, step: Step) -> Ending | None:
         unbound = self._bind(new)
@@ -283,7 +306,12 @@ class Mission:
         """Look into every deposit that should hold items, on the shortest tour from where the
         robot stands; the items lost (not there)."""
         facts = self.belief.facts()
-        full = [d.name for d in self.belief.scenario.deposits if self.belief.in_deposit(d.name)]
+        full = [
+            d.name
+            for d in self.belief.scenario.deposits
+            if self.belief.in_deposit(d.name)
+            and self._looked_into.get(d.name, -1) < self._put_into.get(d.name, 0)
+        ]
         lost: list[str] = []
         for deposit in inspection_tour(facts, robot_waypoint(facts, self.belief), full):
             lost += self.excursions.inspect(deposit, self._map_now())
