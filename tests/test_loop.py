@@ -97,6 +97,54 @@ def test_a_plan_that_stays_valid_is_kept_to_the_end(tmp_path):
     assert events[-2]["kind"] == "end" and events[-2]["reason"] == "goal reached"
 
 
+def test_the_deposit_is_looked_into_at_the_last_put_not_on_a_tour_at_the_end(tmp_path):
+    # The first put leaves a toy for the box: no look into it then. The second leaves nothing
+    # (both toys of the prior tidied): the robot looks into the box where it stands, and the tour
+    # before the end drives nowhere to look into it again.
+    scenario = _scenario("inplace", [("t1", 1.8, 1.0), ("t2", 1.8, 2.2)])
+    summary, events = _run(tmp_path, scenario)
+    assert summary["success"] and summary["delivered"] == 2
+    puts = [i for i, e in enumerate(events) if e["kind"] == "action" and e.get("delivered")]
+    looks = [i for i, e in enumerate(events) if e["kind"] == "inspect_deposit"]
+    assert len(puts) == 2 and len(looks) == 1
+    assert puts[0] < puts[1] < looks[0]
+    assert not any(e["kind"] == "action" for e in events[puts[1] + 1 : looks[0]])  # no drive first
+    assert sorted(events[looks[0]]["confirmed"]) == ["toy-1", "toy-2"]
+    assert not any(e["kind"] == "action" and e.get("purpose") == "inspect_deposit" for e in events)
+
+
+def test_a_deposit_put_into_after_its_look_is_looked_into_again_at_the_end(tmp_path, monkeypatch):
+    # At the first put the belief is wrong: it knows of nothing more for the box (the second
+    # toy unknown, none expected), so the robot looks into the box there and then. It finds the
+    # second toy afterwards and puts it into the same box, still expecting a third: no look
+    # then, so the tour before the end looks into the box again (put into since its look).
+    from tidyplan.belief.state import Belief
+    from tidyplan.loop import loop
+
+    scenario = _scenario("again", [("t1", 1.8, 1.0), ("t2", 1.8, 2.2)])
+    calls = []
+    real = loop.Mission._after_put
+
+    def after_put(self, item):
+        calls.append(item)
+        if len(calls) == 1:
+            self.belief.items = {n: k for n, k in self.belief.items.items() if n == item}
+        expected = [] if len(calls) == 1 else [("unseen-toy-9", "toy")]
+        with monkeypatch.context() as m:
+            m.setattr(Belief, "virtual", lambda belief: expected)
+            return real(self, item)
+
+    monkeypatch.setattr(loop.Mission, "_after_put", after_put)
+    summary, events = _run(tmp_path, scenario)
+    assert summary["success"] and summary["delivered"] == 2 and len(calls) == 2
+    puts = [i for i, e in enumerate(events) if e["kind"] == "action" and e.get("delivered")]
+    looks = [i for i, e in enumerate(events) if e["kind"] == "inspect_deposit"]
+    assert len(looks) == 2 and puts[0] < looks[0] < puts[1] < looks[1]
+    assert [len(events[i]["confirmed"]) for i in looks] == [1, 2]
+    tour = [e for e in events[puts[1] + 1 : looks[1]] if e["kind"] == "action"]
+    assert [e.get("purpose") for e in tour] == ["inspect_deposit"]  # the tour's drive to the box
+
+
 def _after_first_action(monkeypatch, change):
     """Let ``change(belief, snapshot)`` alter the belief once, after the first action, as an
     observation would: the monitor must notice what that does to the plan."""
