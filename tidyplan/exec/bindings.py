@@ -102,7 +102,9 @@ class MonitoredExecutor:
         result = Runner(self.config, emit).run(list(units))
         failed_at = None
         if not result.ok and result.where is not None:
-            if isinstance(result.where, AdjustBase | Grasp):
+            # at an item the belief holds; a virtual object's look from here is all around:
+            # the plan's assumption about it is judged by a look from this waypoint
+            if isinstance(result.where, AdjustBase | Grasp) and result.where.item in ctx.belief.items:
                 failed_at = result.where.item
             result.where.learn(result.failure)
         here = _waypoint_at(snapshot, ctx.belief)
