@@ -107,6 +107,9 @@ class HSR:
         self.set_joints(STOW)
         self.set_gripper(GRIPPER_OPEN)
         self.set_head(0.0, CAMERA_TILT)
+        # the wrist's table now, with nothing in the hand: worked out in the middle of a put, its
+        # postures (the base moved to the origin and back) would be tried with the object held
+        self._wrist = self._wrist_postures()
         self.set_base(x, y, yaw)
 
     # ------------------------------------------------------------------ joints
