@@ -1,8 +1,8 @@
 """The floor to compare a mission against: the time an omniscient robot with the same speeds
 needs to tidy a room, and the most WRS score it reaches in the time limit.
 
-    python bench/floor.py SCENARIO... [--results RESULTS.jsonl] [--grasp-s 3.2] [--place-s 12.3]
-                          [--pull-s 12.3] [--time-limit 900] [--restarts 20]
+    python bench/floor.py SCENARIO... [--results RESULTS.jsonl] [--grasp-s 3.1] [--place-s 9.2]
+                          [--pull-s 12.0] [--time-limit 900] [--restarts 20]
 
 The omniscient robot knows every item from the start, never looks, never fails. It drives at the
 scenario's speed (the HSR's 0.22 m/s) along the shortest paths of the static map at the base's own
