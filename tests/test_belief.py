@@ -156,3 +156,29 @@ def test_a_forgotten_item_is_looked_for_first_from_where_a_look_once_showed_it()
     belief, known, added = forgotten_from(far)
     assert known.seen_from == [far]
     assert len(added) == 1 and belief.room.fixed[added[0]] == far != nearest
+
+
+def test_an_item_the_frames_on_the_way_showed_but_the_close_look_missed_is_taken_from_elsewhere():
+    # wrs-task1-s001: a tool on the tall table, shown by the frames of the drive to it, missed by
+    # the close looks from where the drive ended. It is there: another pose, not lost. Without a
+    # look since the robot arrived, or once the robot has moved, a miss means it is not there.
+    from tidyplan.belief.percepts import Frame
+
+    belief, toy = _belief_with_a_puzzle()
+    here = (1.5, 1.05)
+    belief.at(here, "wp-toy")
+    belief.observe([Detection("toy", 1.5, 1.5, "floor")], None, Frame((1.5, 0.8), None, []))
+    belief.not_found(toy)
+    assert toy in belief.items and belief.failed_poses == [((1.5, 1.5), here)]  # grasped from elsewhere
+
+    belief, toy = _belief_with_a_puzzle()  # seen before the robot arrived: not since
+    belief.at(here, "wp-toy")
+    belief.not_found(toy)
+    assert toy not in belief.items  # lost
+
+    belief, toy = _belief_with_a_puzzle()
+    belief.at(here, "wp-toy")
+    belief.observe([Detection("toy", 1.5, 1.5, "floor")], None, Frame((1.5, 0.8), None, []))
+    belief.robot = (1.2, 1.05)  # moved (a base adjustment) since that look
+    belief.not_found(toy)
+    assert toy not in belief.items

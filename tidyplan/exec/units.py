@@ -228,7 +228,7 @@ class AdjustBase(Unit):
 
     def learn(self, failure: Failure) -> None:
         if failure.what == "not_found":
-            self.ctx.belief.lost(self.item)  # nothing there: a false detection, or it rolled away
+            self.ctx.belief.not_found(self.item)  # lost, unless the last look from here showed it
         elif failure.what == "no_base_pose":
             self.ctx.belief.unreached(self.item)
 
@@ -273,7 +273,7 @@ class Grasp(Unit):
 
     def learn(self, failure: Failure) -> None:
         if failure.what == "not_found":
-            self.ctx.belief.lost(self.item)  # nothing there: a false detection, or it rolled away
+            self.ctx.belief.not_found(self.item)  # lost, unless the last look from here showed it
         elif failure.what == "out_of_reach":
             self.ctx.belief.unreached(self.item)  # the arm did not reach it from this pose
 
