@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -35,6 +34,7 @@ from sim.visibility import GLANCE_TILT_DEG, Box3, in_frame, visible
 from tidyplan.belief import viewpoints
 from tidyplan.belief.exploration import LOST_RADIUS, Exploration
 from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.known import Known, Update
 from tidyplan.belief.mapfacts import ENTRANCE, MapFacts, Placed
 from tidyplan.belief.percepts import MISS_EDGE_DEG, MISS_WIDTH, SWEEP_STOPS, Detection, Frame, in_stops
 
@@ -47,47 +47,8 @@ FORGET_AFTER = 3  # looks in a row that should have seen an item and did not: it
 # m: a confirmed item seen this far from where it was believed has been moved there (and the grasp
 # pose kept for its old place is chosen again)
 MOVED = 0.03
-SEEN_FROM_KEPT = 4  # poses an item was seen from, kept with it (Known.seen_from)
 FORGOTTEN_FROM = 0.9  # m: the nearest a viewpoint at a forgotten item's place stands (a sweep's floor
 # frame starts about 0.6 m out)
-
-
-@dataclass(slots=True)
-class Known:
-    """A seen item. ``state`` is placed, held or tidied; (x, y, on) is where it was last seen or
-    put down; ``misses`` counts looks in a row that should have seen it."""
-
-    name: str
-    category: str
-    x: float
-    y: float
-    on: str = "floor"
-    sx: float = 0.08
-    sy: float = 0.08
-    sz: float = 0.10
-    state: str = "placed"
-    misses: int = 0
-    deposit: str | None = None
-    spread: float = 0.0  # m it may lie from (x, y): 0 where seen; more where it fell unseen
-    oriented: bool = False  # an orientation item (the detector reported its down end)
-    # where the camera stood when it found or confirmed the item, the latest last (a few kept):
-    # a pose known to show it, for the looks after it is forgotten
-    seen_from: list[Point] = field(default_factory=list)
-    seen_look: int = -1  # the belief's look (``Belief.looks``) that last showed it
-
-    def placed(self) -> Placed:
-        return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0)
-
-
-@dataclass(slots=True)
-class Update:
-    """What one observation changed, for the monitor and the trace."""
-
-    new: list[str] = field(default_factory=list)
-    confirmed: list[str] = field(default_factory=list)
-    forgotten: list[str] = field(default_factory=list)
-    # believed items a detection of another kind lay on: the same object seen twice, not added
-    overlapping: list[str] = field(default_factory=list)
 
 
 class Belief:
@@ -243,14 +204,14 @@ class Belief:
                 k.oriented = d.down is not None  # what the detector says of it now (relocate)
                 matched.add(k.name)
                 update.confirmed.append(k.name)
-                _saw(k, at, self.looks)
+                k.saw(at, self.looks)
                 continue
             under = self._under(d)
             if under is not None:
                 update.overlapping.append(under.name)
                 continue
             name = self._add(d)
-            _saw(self.items[name], at, self.looks)
+            self.items[name].saw(at, self.looks)
             matched.add(name)
             update.new.append(name)
         boxes = None  # the believed items as occluders, built once for this look's misses
@@ -596,15 +557,6 @@ class Belief:
         if names:
             self._facts = None
         return names
-
-
-def _saw(k: Known, at: Point, look: int) -> None:
-    """Remember that look number ``look``, from ``at``, showed k (the last SEEN_FROM_KEPT places,
-    no repeats)."""
-    k.seen_look = look
-    if not k.seen_from or math.dist(k.seen_from[-1], at) > 0.1:
-        k.seen_from.append((float(at[0]), float(at[1])))
-        del k.seen_from[:-SEEN_FROM_KEPT]
 
 
 def _away(c: Point, points: list[Point]) -> bool:

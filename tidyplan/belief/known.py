@@ -1,0 +1,58 @@
+"""What the belief holds of one item it has seen (``Known``: its category, believed place and
+state, the looks that showed it) and what one look changed (``Update``).
+``tidyplan.belief.state.Belief`` keeps the items and updates them."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from tidyplan.belief.mapfacts import Placed, Point
+
+SEEN_FROM_KEPT = 4  # poses an item was seen from, kept with it (Known.seen_from)
+
+
+@dataclass(slots=True)
+class Known:
+    """A seen item. ``state`` is placed, held or tidied; (x, y, on) is where it was last seen or
+    put down; ``misses`` counts looks in a row that should have seen it."""
+
+    name: str
+    category: str
+    x: float
+    y: float
+    on: str = "floor"
+    sx: float = 0.08
+    sy: float = 0.08
+    sz: float = 0.10
+    state: str = "placed"
+    misses: int = 0
+    deposit: str | None = None
+    spread: float = 0.0  # m it may lie from (x, y): 0 where seen; more where it fell unseen
+    oriented: bool = False  # an orientation item (the detector reported its down end)
+    # where the camera stood when it found or confirmed the item, the latest last (a few kept):
+    # a pose known to show it, for the looks after it is forgotten
+    seen_from: list[Point] = field(default_factory=list)
+    seen_look: int = -1  # the belief's look (``Belief.looks``) that last showed it
+
+    def placed(self) -> Placed:
+        return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0)
+
+    def saw(self, at: Point, look: int) -> None:
+        """Remember that look number ``look``, from ``at``, showed it (the last SEEN_FROM_KEPT
+        places, no repeats)."""
+        self.seen_look = look
+        if not self.seen_from or math.dist(self.seen_from[-1], at) > 0.1:
+            self.seen_from.append((float(at[0]), float(at[1])))
+            del self.seen_from[:-SEEN_FROM_KEPT]
+
+
+@dataclass(slots=True)
+class Update:
+    """What one observation changed, for the monitor and the trace."""
+
+    new: list[str] = field(default_factory=list)
+    confirmed: list[str] = field(default_factory=list)
+    forgotten: list[str] = field(default_factory=list)
+    # believed items a detection of another kind lay on: the same object seen twice, not added
+    overlapping: list[str] = field(default_factory=list)
