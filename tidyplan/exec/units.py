@@ -394,7 +394,8 @@ class Look(Unit):
 
     def why(self) -> tuple[str, tuple[float, ...] | None] | None:
         """Why a sweep pays here, and its stops (None: all around), or None where the glance is
-        enough. After a failure what changed may be anywhere around; what a tall item hid lies
+        enough. After a failure what changed may be anywhere around (after one at an item, it is
+        about that item: the stops expected to find something); what a tall item hid lies
         beyond where it stood; at a viewpoint the plan came to look from, all around where it may
         find anything; elsewhere the space nobody has seen is swept stop by stop, where a stop is
         expected to find STOP_FINDS items or more, when the prior says how many are missing (its
@@ -405,20 +406,12 @@ class Look(Unit):
         if self.after_failure and (self.failed_at is None or belief.prior is None):
             return "after a failure: what changed?", None
         if self.after_failure:
-            # An approach or a grasp failed at an item: what changed is about that item (not
-            # where the belief had it, or reached from nowhere), and the belief has made the space
-            # around its place unseen again where it was not found: the stops that expect to find
-            # something, as exploration chooses them. All around, 11 s in pybullet, it found new
-            # items after 1 of 13 such failures in ten Task 1 rooms.
-            chosen = [(h, f) for h, f in belief.stop_finds(here) if f >= STOP_FINDS and f > 0]
-            if not chosen:
-                return None
-            finds = sum(f for _, f in chosen)
-            stops = None if len(chosen) == len(SWEEP_STOPS) else tuple(h for h, _ in chosen)
-            return (
-                f"after a failure at {self.failed_at}: {finds:.2f} items expected found "
-                f"({len(chosen)} of 7 stops)"
-            ), stops
+            # An approach or a grasp failed at an item: what changed is about that item. Lost,
+            # the space around its place is unseen again, and the stops that expect to find
+            # something there are swept, as exploration picks them; still believed (another pose
+            # next), nothing new is expected and the glance is all. All around, 11 s in pybullet,
+            # such a sweep found a new item after 1 of 13 failures in ten Task 1 rooms.
+            return _stops_that_pay(belief, here, f"after a failure at {self.failed_at}")
         taken = belief.items.get(self.took or "")
         if taken is not None and taken.sz >= HIDES:
             stops = _stops_around(math.atan2(taken.y - here[1], taken.x - here[0]))
@@ -437,12 +430,19 @@ class Look(Unit):
                 if finds >= MIN_FINDS
                 else None
             )
-        chosen = [(h, f) for h, f in belief.stop_finds(here) if f >= STOP_FINDS and f > 0]
-        if not chosen:
-            return None
-        finds = sum(f for _, f in chosen)
-        stops = None if len(chosen) == len(SWEEP_STOPS) else tuple(h for h, _ in chosen)
-        return f"unseen space in view: {finds:.2f} items expected found ({len(chosen)} of 7 stops)", stops
+        return _stops_that_pay(belief, here, "unseen space in view")
+
+
+def _stops_that_pay(belief, here: Point, why: str) -> tuple[str, tuple[float, ...] | None] | None:
+    """The sweep's stops from ``here`` each expected to find STOP_FINDS items or more nobody has
+    found (None: all seven), and the look's reason (``why``: N items expected found, K of 7
+    stops); None where no stop pays."""
+    chosen = [(h, f) for h, f in belief.stop_finds(here) if f >= STOP_FINDS and f > 0]
+    if not chosen:
+        return None
+    finds = sum(f for _, f in chosen)
+    stops = None if len(chosen) == len(SWEEP_STOPS) else tuple(h for h, _ in chosen)
+    return f"{why}: {finds:.2f} items expected found ({len(chosen)} of 7 stops)", stops
 
 
 GLANCE_WHY = "frames on the way: for the monitor, what moved, what nobody announced"
