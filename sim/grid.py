@@ -132,6 +132,23 @@ class OccupancyGrid:
             self._reach[label] = [self.xy(*c) for c in self._component_of(start)]
         return list(self._reach[label])
 
+    def free_cells_near(self, at: Point, r: float, reachable_from: Point) -> list[Point]:
+        """Centres of the free cells connected to ``reachable_from`` whose cell lies in the square
+        of half-side ``r`` around ``at`` (a superset of those within ``r``; the caller measures):
+        ``free_cells(reachable_from)`` near one point without listing the whole component."""
+        start = self.cell(*reachable_from)
+        if not self._free_cell(start):
+            return []
+        label = self._labels[start]
+        i0, j0 = self.cell(at[0] - r, at[1] - r)
+        i1, j1 = self.cell(at[0] + r, at[1] + r)
+        i0, j0 = max(i0, 0), max(j0, 0)
+        i1, j1 = min(i1 + 1, self.shape[0]), min(j1 + 1, self.shape[1])
+        if i0 >= i1 or j0 >= j1:
+            return []
+        ii, jj = np.nonzero(self._labels[i0:i1, j0:j1] == label)
+        return [self.xy(int(i) + i0, int(j) + j0) for i, j in zip(ii, jj, strict=True)]
+
     def nearest_free(self, x: float, y: float, reachable_from: Point | None = None) -> Point:
         """The centre of the free cell closest to (x, y), e.g. to snap a goal out of an obstacle;
         among ``free_cells(reachable_from)``. Raises ValueError when there is none."""

@@ -251,3 +251,20 @@ def test_the_length_matrix_and_both_ways_are_path_lengths_read_another_way(seed)
         there, back = grid.lengths_both_ways(a, points)
         assert there == want[k]
         assert back == [row[k] for row in want]
+
+
+def test_the_free_cells_near_a_point_are_those_of_its_component_there():
+    """free_cells_near (a grasp pose's adjustment looks only around the pose) gives the cells of
+    free_cells(reachable_from) within r of the point, whichever component asks, and none for a
+    start that is not free."""
+    # a wall of boxes splits the room: two components
+    grid = OccupancyGrid(ROOM, [Box(2.0, 1.5, 0.1, 3.2, "wall")], radius=R)
+    for start in ((0.5, 1.5), (3.5, 1.5)):
+        component = grid.free_cells(reachable_from=start)
+        for at in ((1.7, 1.5), (2.3, 0.4), (0.1, 0.1), (3.9, 2.9)):
+            r = 0.6
+            near = [q for q in grid.free_cells_near(at, r, reachable_from=start) if math.dist(q, at) <= r]
+            want = [q for q in component if math.dist(q, at) <= r]
+            assert sorted(near) == sorted(want)
+        assert any(grid.free_cells_near((1.7, 1.5), 0.6, reachable_from=(0.5, 1.5)))
+    assert grid.free_cells_near((1.7, 1.5), 0.6, reachable_from=(2.0, 1.5)) == []  # in the wall

@@ -45,14 +45,25 @@ def test_the_monitors_state_is_the_unfocused_snapshots_atoms_with_and_without_a_
         belief = Belief(scenario, RoomMap(scenario))
         world = SymbolicWorld(scenario, belief.room, seed=0)
         virtual = [("unseen-toy-1", "food")]
-        for turn in range(2):  # before and after a look: a new map, then the same one asked again
+        # before and after a look (a new map, then the same one asked again), after a move (the
+        # floor's pairs shared, the robot's own), after a move found blocked (pairs dropped)
+        for turn in range(4):
             facts = belief.facts()
             for domain in (None, tidy):
                 want = write(belief, facts, [], virtual, "t", domain=domain).atoms
                 got = belief_state(belief, facts, virtual, domain)
                 assert got == want, (case, turn, got ^ want)
+                assert set(got) == want and len(got) == len(want)
                 assert any(a[0] == "path" for a in got)
-            belief.observe(world.look(), None)
+            if turn == 0:
+                belief.observe(world.look(), None)
+            elif turn == 1:
+                free = belief.room.grid(()).free_cells(reachable_from=belief.room.entrance)
+                belief.at(free[len(free) // 2], "wp-went-there")  # no waypoint: the robot's own
+            elif turn == 2:
+                (a, b), _ = next((ab, d) for ab, d in facts.path.items() if facts.kind[ab[0]] != "robot")
+                belief.blocked_moves.add((facts.points[a], facts.points[b]))
+        assert facts.dropped and facts.own.path  # the layers were there to test
 
 
 def test_a_robot_shut_in_a_corner_by_an_item_it_dropped_grasps_it_from_where_it_stands():

@@ -6,7 +6,7 @@ from __future__ import annotations
 import random
 
 from tidyplan.pddl.reader import parse
-from tidyplan.pddl.simulate import Simulator
+from tidyplan.pddl.simulate import Overlay, Simulator
 
 DOMAIN = """
 (define (domain clear)
@@ -85,3 +85,40 @@ def test_a_forall_of_a_subtype_takes_no_object_of_the_supertype():
     sim = Simulator(domain, problem)
     reached, _ = sim.run(sim.initial_state(problem), [("take", ("a", "s1"))])
     assert ("mark", "s1") not in reached  # a is a thing, not heavy: its fact is no binding
+
+
+def test_an_overlay_state_progresses_as_the_plain_state_it_stands_for():
+    """The monitor's state is an Overlay: a shared base (the map's atoms) and a small part. Run
+    and apply over it give what they give over the same atoms as one frozenset, whatever the
+    split; the forall effects kept from run to run over one base are not used by a run whose
+    small part has atoms of their condition (here a blocks fact the base lacks)."""
+    domain = parse(DOMAIN)
+    for seed in range(30):
+        rng = random.Random(seed)
+        problem = parse(_problem(rng))
+        sim = Simulator(domain, problem)
+        state = sim.initial_state(problem)
+        atoms = sorted(state)
+        base = frozenset(a for a in atoms if rng.random() < 0.7)
+        layered = Overlay(base, state - base)
+        assert layered == state and len(layered) == len(state) and set(layered) == set(state)
+        takes = [(t, f[2]) for t in (f"t{k}" for k in rng.sample(range(5), 5)) for f in atoms
+                 if f[0] == "at" and f[1] == t]
+        steps = [("take", args) for args in takes]
+        for _ in range(2):  # the second run over the same base reads the kept effects
+            plain, broken = sim.run(state, steps)
+            over, broken_over = sim.run(layered, steps)
+            assert isinstance(over, Overlay) and over.base is base
+            assert broken_over == broken and over == plain, seed
+        now, now_layered = state, layered
+        for args in takes[:3]:
+            now, now_layered = sim.apply(now, "take", args), sim.apply(now_layered, "take", args)
+            assert now_layered == now
+        # one more blocks fact in the small part: the kept answers must not serve this run
+        t, a, b = "t0", "hub", "s0"
+        extra = Overlay(base, (state - base) | {("blocks", t, a, b), ("shut", a, b)})
+        plain_extra = state | {("blocks", t, a, b), ("shut", a, b)}
+        steps_t0 = [s for s in steps if s[1][0] == "t0"]
+        over, _ = sim.run(extra, steps_t0)
+        plain, _ = sim.run(plain_extra, steps_t0)
+        assert over == plain and ("shut", a, b) not in over

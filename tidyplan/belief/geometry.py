@@ -72,6 +72,7 @@ class RoomMap:
         self._pairs: dict[tuple, tuple[tuple[int, ...], tuple[int, ...]]] = {}  # _pair's answers
         self._lines: dict[tuple, np.ndarray] = {}  # static paths' cells, for _near_paths
         self._discs: dict[tuple, np.ndarray] = {}  # the cells near an item, for _near_paths
+        self._crossings: dict[tuple, tuple] = {}  # _crossing's answers, by item and floor near it
         static = self.grid(())
         self.entrance = static.nearest_free(*scenario.entrance)
         self.fixed: dict[str, Point] = {ENTRANCE: self.entrance}
@@ -149,11 +150,12 @@ class RoomMap:
             # the floor's boxes as arrays: which are near an item, for every item at once (a loop
             # over every pair was a seventh of a turn at 96 objects)
             boxes = np.array([(b.cx, b.cy, b.sx / 2, b.sy / 2) for b in floor], dtype=float).reshape(-1, 4)
+            taken = _Taken()
             for p in sorted(items, key=lambda p: p.name):
                 bad, previous = (avoid or {}).get(p.name, []), (sticky or {}).get(p.name)
                 near = _near_boxes(boxes, p.xy, GRASP_MAX + 0.5)
                 self._add_grasp(
-                    chosen, p, [floor[i] for i in near], nav, static, bare, reachable, previous, bad
+                    chosen, p, [floor[i] for i in near], nav, static, bare, reachable, previous, bad, taken
                 )
             floor_memo.grasp[key] = chosen
         facts.points.update(chosen.points)
@@ -180,10 +182,81 @@ class RoomMap:
                 self._floors.popitem(last=False)
         return self._floors[key]
 
-    def _add_grasp(self, facts, p, floor, nav, static, bare, reachable, previous, avoid=()) -> None:
+    def _add_grasp(self, facts, p, floor, nav, static, bare, reachable, previous, avoid=(), taken=None) -> None:
         """Choose where the robot stands to grasp ``p``: a pose the navigation grid reaches now,
         else one it reaches once floor items are cleared (blocked), else one a pose adjustment
-        reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier."""
+        reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier.
+        ``taken``: the grasp and adjustment poses chosen so far (``_Taken``), else read from
+        ``facts``."""
+        crossing = dict(self._crossing(p, tuple(floor), bare))
+        if taken is None:
+            taken = _Taken()
+            for n, q in facts.points.items():
+                if facts.kind[n] in ("grasp", "adjust"):
+                    taken.add(q)
+        # poses taken by other waypoints (only those within reach of a ring cell can be within
+        # 0.1 m of one), and those from which the robot failed to find p before
+        others = taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6)
+        keep = _apart(list(crossing), others, 0.1) & _apart(list(crossing), list(avoid), 0.15)
+        crossing = {c: x for (c, x), ok in zip(crossing.items(), keep, strict=True) if ok}
+        candidates = [c for c, x in crossing.items() if not x]
+        rank = lambda c: (len(crossing[c]), abs(math.dist(c, p.xy) - GRASP_BEST), c)  # noqa: E731
+        name = grasp_waypoint(p.name)
+        now = [c for c in candidates if c in reachable]
+        if previous in now:
+            now = [previous]
+        if now:
+            facts.points[name], facts.kind[name] = min(now, key=rank), "grasp"
+            facts.grasp[p.name] = name
+            taken.add(facts.points[name])
+            return
+        # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
+        # its paths would be blocked by the item to be taken from there (no plan could start)
+        own = self.grid([p.box(), *self._out]) if p.on_floor else static
+        room = own.component(*(self._origin if own.free(*self._origin) else self.entrance))
+        later = [c for c in crossing if room and own.component(*c) == room]
+        if previous in later:
+            later = [previous]
+        if later:
+            c = min(later, key=rank)
+            facts.points[name], facts.kind[name] = c, "grasp"
+            facts.grasp[p.name] = name
+            taken.add(c)
+            if crossing[c]:
+                facts.reach_blockers[name] = crossing[c]
+            return
+        tight = []
+        for c in candidates:
+            if not bare.free(*c):
+                continue
+            # a pose adjustment is a short straight move: never through furniture or a wall
+            # (the reachable cells near c, from the grid's window around it, not the room's)
+            near = nav.free_cells_near(c, ADJUST_MAX, reachable_from=self._origin)
+            base = [q for q in near if math.dist(q, c) <= ADJUST_MAX and straight(bare, q, c)]
+            if base:
+                tight.append((rank(c), c, min(base, key=lambda q: (math.dist(q, c), q))))
+        if not tight:
+            facts.unreachable.append(p.name)
+            return
+        _, c, base = min(tight)
+        facts.points[name], facts.kind[name] = c, "grasp"
+        facts.points[name + "-base"], facts.kind[name + "-base"] = base, "adjust"
+        facts.grasp[p.name] = name
+        taken.add(c)
+        taken.add(base)
+        d = round(math.dist(base, c), 2)
+        facts.adjust[(name + "-base", name)] = facts.adjust[(name, name + "-base")] = d
+
+    def _crossing(self, p: Placed, floor: tuple[Box, ...], bare: OccupancyGrid) -> tuple:
+        """Each cell of ``p``'s ring with the floor items a grasp from there must wait for: those
+        its reach to ``p`` passes over, and those standing on it where the bare footprint does
+        not fit. It depends on ``p``, the floor items near it (``floor``) and the open drawers
+        only, so it is kept by them: a new floor works out again only the rings near what
+        changed (every ring of the room, each new floor, was a third of a 96-object turn)."""
+        key = (p.name, p.xy, floor, self._out)
+        hit = self._crossings.get(key)
+        if hit is not None:
+            return hit
         # GRASP_MIN keeps poses off the item's own footprint, so the grid with every floor item
         # serves. The arm reaches straight: a floor item in between makes a pose usable only
         # once that item is taken away, like an item lying across a path.
@@ -203,54 +276,13 @@ class RoomMap:
                 crosses[k].append(b.name)
             for k in under_at:
                 under[k].append(b.name)
-        crossing = {
-            c: tuple(crosses[k]) + (() if bare.free(*c) else tuple(under[k])) for k, c in enumerate(ring)
-        }
-        others = [q for n, q in facts.points.items() if facts.kind[n] in ("grasp", "adjust")]
-        # poses taken by other waypoints, and those from which the robot failed to find p before
-        keep = _apart(list(crossing), others, 0.1) & _apart(list(crossing), list(avoid), 0.15)
-        crossing = {c: x for (c, x), ok in zip(crossing.items(), keep, strict=True) if ok}
-        candidates = [c for c, x in crossing.items() if not x]
-        rank = lambda c: (len(crossing[c]), abs(math.dist(c, p.xy) - GRASP_BEST), c)  # noqa: E731
-        name = grasp_waypoint(p.name)
-        now = [c for c in candidates if c in reachable]
-        if previous in now:
-            now = [previous]
-        if now:
-            facts.points[name], facts.kind[name] = min(now, key=rank), "grasp"
-            facts.grasp[p.name] = name
-            return
-        # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
-        # its paths would be blocked by the item to be taken from there (no plan could start)
-        own = self.grid([p.box(), *self._out]) if p.on_floor else static
-        room = own.component(*(self._origin if own.free(*self._origin) else self.entrance))
-        later = [c for c in crossing if room and own.component(*c) == room]
-        if previous in later:
-            later = [previous]
-        if later:
-            c = min(later, key=rank)
-            facts.points[name], facts.kind[name] = c, "grasp"
-            facts.grasp[p.name] = name
-            if crossing[c]:
-                facts.reach_blockers[name] = crossing[c]
-            return
-        tight = []
-        for c in candidates:
-            if not bare.free(*c):
-                continue
-            # a pose adjustment is a short straight move: never through furniture or a wall
-            base = [q for q in reachable if math.dist(q, c) <= ADJUST_MAX and straight(bare, q, c)]
-            if base:
-                tight.append((rank(c), c, min(base, key=lambda q: (math.dist(q, c), q))))
-        if not tight:
-            facts.unreachable.append(p.name)
-            return
-        _, c, base = min(tight)
-        facts.points[name], facts.kind[name] = c, "grasp"
-        facts.points[name + "-base"], facts.kind[name + "-base"] = base, "adjust"
-        facts.grasp[p.name] = name
-        d = round(math.dist(base, c), 2)
-        facts.adjust[(name + "-base", name)] = facts.adjust[(name, name + "-base")] = d
+        hit = tuple(
+            (c, tuple(crosses[k]) + (() if bare.free(*c) else tuple(under[k]))) for k, c in enumerate(ring)
+        )
+        if len(self._crossings) > 4096:  # a mission's items, where they were seen, their floors
+            self._crossings.clear()
+        self._crossings[key] = hit
+        return hit
 
     def _ring(self, at: Point) -> list[Point]:
         """The bare map's free cells within the arm's reach of ``at`` (GRASP_MIN to GRASP_MAX), in
@@ -312,12 +344,21 @@ class RoomMap:
         bases = [n for n in part.points if n not in facts.points]  # the deposits' adjustment poses
         for n in bases:
             facts.points[n], facts.kind[n] = part.points[n], part.kind[n]
+        # the robot's pairs (and the grasp poses' adjustments, chosen before) apart from the
+        # floor's: a reader of what changed after a move reads these only (``MapFacts.own``)
+        own = MapFacts(points=facts.points, kind=facts.kind, reach_blockers=facts.reach_blockers)
+        own.adjust = dict(facts.adjust)
+        for r in robots:
+            self._robot_paths(own, items, names, r, bases, nav, static, floor_memo)
         facts.path.update(part.path)
         facts.blocked.update(part.blocked)
         facts.blocks.update(part.blocks)
         facts.adjust.update(part.adjust)
-        for r in robots:
-            self._robot_paths(facts, items, names, r, bases, nav, static, floor_memo)
+        facts.path.update(own.path)
+        facts.blocked.update(own.blocked)
+        facts.blocks.update(own.blocks)
+        facts.adjust.update(own.adjust)
+        facts.shared, facts.own = part, own
 
     def _fixed_paths(self, facts: MapFacts, items, nav, static, floor_memo: _Floor) -> None:
         """``_add_paths`` for waypoints none of which is the robot's."""
@@ -487,6 +528,25 @@ class RoomMap:
             cells = [static.cell(*q) for q in static.path(a, b) or []]
             self._lines[key] = np.array([i * static.shape[1] + j for i, j in cells], dtype=np.int64)
         return self._lines[key]
+
+
+class _Taken:
+    """The grasp and adjustment poses chosen so far in one ``facts``, by 1 m square: which lie
+    near an item is a look at the squares around it, not at every pose of the room."""
+
+    def __init__(self) -> None:
+        self._squares: dict[tuple[int, int], list[Point]] = {}
+
+    def add(self, q: Point) -> None:
+        self._squares.setdefault((math.floor(q[0]), math.floor(q[1])), []).append(q)
+
+    def near(self, at: Point, r: float) -> list[Point]:
+        """The poses within ``r`` of ``at`` (and maybe a few more: the squares' corners)."""
+        out = []
+        for i in range(math.floor(at[0] - r), math.floor(at[0] + r) + 1):
+            for j in range(math.floor(at[1] - r), math.floor(at[1] + r) + 1):
+                out += self._squares.get((i, j), ())
+        return out
 
 
 def _near_boxes(boxes: np.ndarray, xy: Point, within: float) -> np.ndarray:

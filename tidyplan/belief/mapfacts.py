@@ -58,6 +58,14 @@ class MapFacts:
     blocks: set[tuple[str, str, str]] = field(default_factory=set)  # (item, from, to)
     adjust: dict[tuple[str, str], float] = field(default_factory=dict)
     reach_blockers: dict[str, tuple[str, ...]] = field(default_factory=dict)  # grasp wp -> items
+    # How the pairs were put together, for readers that need what changed, not the whole room
+    # (the monitor's state after every action): ``shared`` holds pairs of a floor's fixed
+    # waypoints, kept by the RoomMap and shared by every answer on that floor; ``own`` the rest
+    # (the robot's pairs, the grasp poses' adjustments); ``dropped`` the pairs taken out of
+    # ``path`` and ``adjust`` since. The tables above are always whole: shared + own - dropped.
+    shared: MapFacts | None = None
+    own: MapFacts | None = None
+    dropped: set[tuple[str, str]] = field(default_factory=set)
 
     def distance(self, a: str, b: str) -> float | None:
         for table in (self.path, self.blocked, self.adjust):

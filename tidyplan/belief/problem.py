@@ -31,6 +31,7 @@ from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import COST, GOAL, VOCABULARY
 from tidyplan.pddl import model as m
 from tidyplan.pddl.criterion import DEFAULT_REWARD
+from tidyplan.pddl.simulate import Overlay
 from tidyplan.pddl.writer import problem_text
 from tidyplan.planning.removal import Waypoint, removal_waypoint
 
@@ -192,15 +193,19 @@ def goal_atoms(belief: Belief, goal: Sequence[str], domain: m.Domain | None) -> 
 
 def belief_state(
     belief: Belief, facts: MapFacts, virtual: Sequence[tuple[str, str]], domain: m.Domain | None = None
-) -> frozenset[tuple[str, ...]]:
+) -> Overlay:
     """``write(...).state`` without the model: what the monitor simulates the plan from after
     every action (at 96 objects the model's hundred thousand atoms were most of a turn).
-    The map's atoms come as a set kept with the map: a state has no order to sort them into."""
-    atoms = frozenset(_contents(belief, facts, virtual, None, domain, with_map=False)[0])
-    map_atoms = _map_set(facts)
+    The map's atoms come as a set kept with the map (a state has no order to sort them into),
+    the base of an `Overlay` whose small part is the rest of the belief."""
+    atoms = _contents(belief, facts, virtual, None, domain, with_map=False)[0]
+    base, added, removed = _map_layers(facts)
     if domain is not None and not all(domain.predicate(p) is not None for p in _MAP_PREDICATES):
-        map_atoms = frozenset(a for a in map_atoms if domain.predicate(a[0]) is not None)
-    return map_atoms | atoms
+        base = frozenset(a for a in base if domain.predicate(a[0]) is not None)
+        added = {a for a in added if domain.predicate(a[0]) is not None}
+    # the map's part shared, not copied: a turn adds the robot's pairs and the belief's few
+    # hundred atoms to it
+    return Overlay(base, [*added, *atoms], removed)
 
 
 def _contents(belief, facts, virtual, keep, domain, with_map=True):
@@ -263,20 +268,40 @@ _MAP_SETS: dict[int, tuple[MapFacts, frozenset]] = {}  # id(facts) -> (facts, it
 _MAP_PREDICATES = ("path", "blocked", "blocks", "pose-adjustment")  # the atoms _map_part writes
 
 
+def _map_layers(facts: MapFacts) -> tuple[frozenset, set, set]:
+    """``_map_part``'s atoms as (base, added, removed): the atoms of the floor's shared pairs
+    (``MapFacts.shared``), kept with them, and what this answer adds and drops; a map put
+    together otherwise is all base. After a move only the robot's pairs are new: a turn reads
+    those, not the hundred thousand atoms of a 96-object room's pairs."""
+    if facts.shared is None or facts.own is None:
+        return _map_set(facts), set(), set()
+    added = set(_atoms(facts.own))
+    removed = set()
+    for a, b in facts.dropped:
+        for atom, there in ((("path", a, b), (a, b) in facts.blocked), (("pose-adjustment", a, b), False)):
+            if not there:
+                added.discard(atom)
+                removed.add(atom)
+    return _map_set(facts.shared), added, removed
+
+
+def _atoms(facts: MapFacts):
+    yield from (("path", u, v) for u, v in facts.path)
+    yield from (("path", u, v) for u, v in facts.blocked)
+    yield from (("blocked", u, v) for u, v in facts.blocked)
+    yield from (("blocks", item, u, v) for item, u, v in facts.blocks)
+    yield from (("pose-adjustment", u, v) for u, v in facts.adjust)
+
+
 def _map_set(facts: MapFacts) -> frozenset:
     """``_map_part``'s atoms as a set, unsorted (sorting a 96-object room's paths and blockers
     for each new map was a twentieth of a mission); kept like the parts."""
     hit = _MAP_SETS.get(id(facts))
     if hit is not None and hit[0] is facts:
         return hit[1]
-    atoms = {("path", u, v) for u, v in facts.path}
-    atoms.update(("path", u, v) for u, v in facts.blocked)
-    atoms.update(("blocked", u, v) for u, v in facts.blocked)
-    atoms.update(("blocks", item, u, v) for item, u, v in facts.blocks)
-    atoms.update(("pose-adjustment", u, v) for u, v in facts.adjust)
     if len(_MAP_SETS) >= 4:
         _MAP_SETS.clear()
-    _MAP_SETS[id(facts)] = (facts, frozenset(atoms))
+    _MAP_SETS[id(facts)] = (facts, frozenset(_atoms(facts)))
     return _MAP_SETS[id(facts)][1]
 
 

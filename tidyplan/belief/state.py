@@ -142,6 +142,7 @@ class Belief:
                     for b in at.get(qb, ()):
                         facts.path.pop((a, b), None)
                         facts.adjust.pop((a, b), None)
+                        facts.dropped.add((a, b))
         self._facts = (self._facts_key(), facts)
         return facts
 

@@ -43,7 +43,7 @@ from tidyplan.loop.replanning import Replanner
 from tidyplan.loop.triggers import Cause, bind, check_assumptions
 from tidyplan.pddl import model as m
 from tidyplan.pddl.reader import read_domain, read_text
-from tidyplan.pddl.simulate import Simulator
+from tidyplan.pddl.simulate import Overlay, Simulator
 from tidyplan.pddl.static import changed_predicates
 from tidyplan.planning.planner import PlanResult, Status, Step
 from tidyplan.planning.strata import STRATEGIES, unproven_below
@@ -426,18 +426,20 @@ class Mission:
         """The current belief as a planning state, in the names of the plan being executed."""
         virtual = [(v, c) for v, c in self.snapshot.virtual if v not in self.bound]
         # the problem's init as a state: no model built, nothing written or parsed
-        facts = set(belief_state(self.belief, self.belief.facts(), virtual, self.domain))
+        state = belief_state(self.belief, self.belief.facts(), virtual, self.domain)
         # Virtual objects the plan bound are seen items now; pending assumptions stand for
         # what the plan took for granted and the belief does not contradict yet.
         for a in self.pending:
-            facts = set(self.sim.apply(frozenset(facts), a.name, a.args))
-        return frozenset(facts)
+            state = self.sim.apply(state, a.name, a.args)
+        return state
 
     def _remember(self, before, step: Step) -> None:
         """What the executed ``step`` did to the predicates only the belief keeps: its effects."""
         after = self.sim.apply(before, step.name, step.args)
         kept = {a for a in self.belief.memory if a[0] not in self._remembered}
-        self.belief.memory = kept | {a for a in after if a[0] in self._remembered}
+        # the map's part (an overlay's base) holds vocabulary only: its small part is read
+        small = after.added if isinstance(after, Overlay) else after
+        self.belief.memory = kept | {a for a in small if a[0] in self._remembered}
 
     def _observe(self, detections, waypoint, why: str = "", frames=None, stops=None) -> list[str]:
         """A sweep's ``detections`` from ``waypoint`` (of the pan ``stops`` given, all around by

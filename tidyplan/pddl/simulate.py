@@ -13,16 +13,121 @@ Derived predicates (`tidyplan.pddl.derived`) are closed wherever a state's truth
 states `apply` and `run` return hold their derived facts, and `applicable` and `holds` close
 the state they are given first (a caller's state may have been built from basic facts alone).
 A domain without them keeps `run`'s fast path: one set changed in place, nothing closed.
+
+A state may also be an `Overlay`: a large frozen base (the map's atoms, shared while the map
+stays) with a few atoms added and removed. The monitor hands one over after every action; `apply`
+and `run` change only its small part, so a turn costs what the plan touches, not the room.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Set as AbstractSet
+from itertools import chain
 
 from tidyplan.pddl import model as m
 from tidyplan.pddl.derived import Closure
 
 State = frozenset[tuple[str, ...]]
+Atom = tuple[str, ...]
+
+
+class Overlay(AbstractSet):
+    """A state as ``base`` (a frozenset, shared) less ``removed`` plus ``added``: what a turn of
+    the monitor changes is a few atoms of a belief whose map part has a hundred thousand, and
+    copying that part per turn (and per step of a plan's progression) was most of a turn at 96
+    objects. Reads like a frozenset; treat it as one (``apply`` and ``run`` return new ones).
+
+    Invariants: ``added`` and ``base`` share nothing; ``removed`` lies within ``base``."""
+
+    __slots__ = ("base", "added", "removed")
+
+    def __init__(self, base: frozenset, added: Iterable[Atom] = (), removed: Iterable[Atom] = ()) -> None:
+        self.base = base
+        self.added = {a for a in added if a not in base}
+        self.removed = {a for a in removed if a in base}
+
+    @classmethod
+    def _from_iterable(cls, it: Iterable[Atom]) -> frozenset:
+        return frozenset(it)  # set algebra on an overlay gives a plain state
+
+    def __contains__(self, atom: object) -> bool:
+        return atom in self.added or (atom in self.base and atom not in self.removed)
+
+    def __iter__(self) -> Iterator[Atom]:
+        if not self.removed:
+            return chain(self.added, self.base)
+        return chain(self.added, (a for a in self.base if a not in self.removed))
+
+    def __len__(self) -> int:
+        return len(self.base) - len(self.removed) + len(self.added)
+
+    __hash__ = AbstractSet._hash
+
+    def __repr__(self) -> str:
+        return f"Overlay({len(self.base)} base atoms, +{len(self.added)}, -{len(self.removed)})"
+
+    def copy(self) -> Overlay:
+        out = Overlay.__new__(Overlay)
+        out.base, out.added, out.removed = self.base, set(self.added), set(self.removed)
+        return out
+
+    def change(self, add: set[Atom], delete: set[Atom]) -> None:
+        """In place: less ``delete``, then plus ``add`` (PDDL: adds win over deletes)."""
+        for a in delete:
+            if a in self.base:
+                self.removed.add(a)
+            else:
+                self.added.discard(a)
+        for a in add:
+            if a in self.base:
+                self.removed.discard(a)
+            else:
+                self.added.add(a)
+
+    def by(self, predicate: str, k: int | None):
+        """The atoms of ``predicate``, all in a list (``k`` None) or by their argument k: the
+        base's grouping kept with the base, the small part's merged in (read only)."""
+        base = _grouped(self.base, predicate, k)
+        mine = [a for a in self.added if a[0] == predicate]
+        gone = [a for a in self.removed if a[0] == predicate]
+        if not mine and not gone:
+            return base
+        if k is None:
+            return [a for a in base if a not in self.removed] + mine
+        out = {key: [a for a in atoms if a not in self.removed] for key, atoms in base.items()}
+        for a in mine:
+            if len(a) > k + 1:
+                out.setdefault(a[k + 1], []).append(a)
+        return out
+
+
+_GROUPS: dict[int, tuple[frozenset, dict]] = {}  # id(base) -> (base, {(predicate, k): grouping})
+
+
+def _grouped(base: frozenset, predicate: str, k: int | None):
+    """A base's atoms of ``predicate``, in a list (k None) or by argument k: worked out once per
+    base (per map), kept for the last few bases."""
+    hit = _GROUPS.get(id(base))
+    if hit is None or hit[0] is not base:
+        if len(_GROUPS) >= 4:
+            _GROUPS.clear()
+        by: dict = {None: {}}
+        for a in base:
+            by[None].setdefault(a[0], []).append(a)
+        hit = _GROUPS[id(base)] = (base, by)
+    groups = hit[1]
+    if (predicate, k) not in groups:
+        atoms = groups[None].get(predicate, [])
+        if k is None:
+            groups[(predicate, k)] = atoms
+        else:
+            grouping: dict[str, list[Atom]] = {}
+            for a in atoms:
+                if len(a) > k + 1:
+                    grouping.setdefault(a[k + 1], []).append(a)
+            groups[(predicate, k)] = grouping
+    return groups[(predicate, k)]
 
 
 class Simulator:
@@ -37,6 +142,8 @@ class Simulator:
                 self._objects.setdefault(t, []).append(obj.name)
         self._closure: Closure | None = None
         self._changed: set[str] | None = None  # predicates some action or rule changes (statically_possible)
+        # forall effects' answers over an overlay's base, kept from run to run (_StaticFacts.effect)
+        self._kept: tuple[frozenset | None, dict] = (None, {})
         if domain.derived:
             objects = self._objects
             self._closure = Closure(
@@ -49,7 +156,8 @@ class Simulator:
         return self.close(frozenset((a.predicate, *a.args) for a in problem.init))
 
     def close(self, state: State) -> State:
-        """The state with its derived facts (recomputed from its basic facts); itself without rules."""
+        """The state with its derived facts (recomputed from its basic facts); itself without
+        rules. (With rules, an `Overlay` becomes a plain state: its closure is recomputed.)"""
         if self._closure is None:
             return state
         return frozenset(self._closure.close(set(state)))
@@ -59,12 +167,17 @@ class Simulator:
         return _holds(action.precondition, self.close(state), self._bind(action, args), self._objects)
 
     def apply(self, state: State, name: str, args: Sequence[str]) -> State:
-        """The successor state (closed); the caller checks applicability first."""
+        """The successor state (closed); the caller checks applicability first. An `Overlay`
+        gives an `Overlay` over the same base where the domain has no derived predicates."""
         action = self._action(name)
         state = self.close(state)
         add: set[tuple[str, ...]] = set()
         delete: set[tuple[str, ...]] = set()
         _effects(action.effect, state, self._bind(action, args), self._objects, add, delete)
+        if isinstance(state, Overlay):
+            out = state.copy()
+            out.change(add, delete)
+            return out
         return self.close(frozenset((state - delete) | add))  # PDDL: adds win over deletes
 
     def run(self, state: State, steps: Iterable[tuple[str, Sequence[str]]]) -> tuple[State, int | None]:
@@ -72,8 +185,24 @@ class Simulator:
         precondition fails (None when all applied). One set changed in place, not a new state
         per step: the monitor runs a whole plan after every action, over a belief of a hundred
         thousand atoms in a 96-object room. With derived predicates, the set is closed before
-        each step and at the end."""
+        each step and at the end. An `Overlay` without derived predicates is progressed in its
+        small part and comes back an `Overlay` (the base is never copied)."""
         closure = self._closure
+        if isinstance(state, Overlay) and closure is None:
+            layered = state.copy()
+            if self._kept[0] is not state.base:
+                self._kept = (state.base, {})
+            static = _StaticFacts(layered, self._static_predicates(), self._objects, self._kept[1])
+            for k, (name, args) in enumerate(steps):
+                action = self._action(name)
+                binding = self._bind(action, args)
+                if not _holds(action.precondition, layered, binding, self._objects):
+                    return layered, k
+                add: set[tuple[str, ...]] = set()
+                delete: set[tuple[str, ...]] = set()
+                _effects(action.effect, layered, binding, self._objects, add, delete, static)
+                layered.change(add, delete)
+            return layered, None
         now = set(state)
         if closure is not None:
             closure.close(now)
@@ -83,8 +212,8 @@ class Simulator:
             binding = self._bind(action, args)
             if not _holds(action.precondition, now, binding, self._objects):
                 return frozenset(now), k
-            add: set[tuple[str, ...]] = set()
-            delete: set[tuple[str, ...]] = set()
+            add = set()
+            delete = set()
             _effects(action.effect, now, binding, self._objects, add, delete, static)
             now -= delete
             now |= add  # PDDL: adds win over deletes
@@ -208,6 +337,11 @@ def _effects(e, state: State, binding: dict[str, str], objects, add: set, delete
         if _holds(e.condition, state, binding, objects):
             _effects(e.effect, state, binding, objects, add, delete, static)
     elif isinstance(e, m.ForallEffect):
+        done = None if static is None else static.effect(e, binding)
+        if done is not None:  # literals over a static condition's matches: worked out before
+            add |= done[0]
+            delete |= done[1]
+            return
         matches = None if static is None else static.matches(e, binding)
         if matches is not None:  # the bindings whose condition holds, from the facts themselves
             for b in matches:
@@ -221,6 +355,19 @@ def _effects(e, state: State, binding: dict[str, str], objects, add: set, delete
         raise TypeError(f"not an effect: {e!r}")
 
 
+def _literals(e) -> bool:
+    """Whether effect ``e`` is literals only (and conjunctions of them): nothing it does
+    depends on the state it is applied in."""
+    if isinstance(e, m.Literal):
+        return True
+    return isinstance(e, m.AndEffect) and all(_literals(p) for p in e.parts)
+
+
+def _touches(state: Overlay, predicate: str | None) -> bool:
+    """Whether the overlay's small part adds or removes an atom of ``predicate``."""
+    return any(a[0] == predicate for a in chain(state.added, state.removed))
+
+
 class _StaticFacts:
     """A run's facts of the predicates nothing changes, by predicate, found when first asked.
 
@@ -230,10 +377,42 @@ class _StaticFacts:
     it holds are exactly its facts that match: one pass over the state per predicate and run.
     """
 
-    def __init__(self, state: set, predicates: set[str], objects) -> None:
+    def __init__(self, state: set, predicates: set[str], objects, kept: dict | None = None) -> None:
         self._state, self._predicates, self._objects = state, predicates, objects
         self._index: dict[tuple[str, int | None], dict] = {}
         self._typed: dict[tuple[str, ...], frozenset[str]] = {}
+        # ``effect``'s answers; ``kept`` (from the Simulator) outlives the run: valid while the
+        # state's base is the same and its small part holds no atom of the condition's predicate
+        self._effects: dict = {} if kept is None else kept
+        self._kept = kept is not None
+        self._clean: dict[str | None, bool] = {}  # predicate -> the small part has none of it
+
+    def effect(self, e: m.ForallEffect, binding: dict[str, str]):
+        """(adds, deletes) of ``e`` under ``binding`` where its body is literals only under a
+        condition ``matches`` answers (so the state cannot change them), else None. A plan takes
+        the same item in every run of the monitor; the room's blockers of it are read once."""
+        body = e.effect
+        if not isinstance(body, m.When) or not _literals(body.effect):
+            return None
+        if self._kept and isinstance(self._state, Overlay):
+            predicate = body.condition.predicate if isinstance(body.condition, m.Atom) else None
+            if predicate not in self._clean:
+                self._clean[predicate] = not _touches(self._state, predicate)
+            if not self._clean[predicate]:
+                return None  # the small part has atoms of the condition: none kept for it
+        key = (id(e), tuple(sorted(binding.items())))
+        hit = self._effects.get(key)
+        if hit is not None:
+            return hit
+        matches = self.matches(e, binding)
+        if matches is None:
+            return None
+        add: set[tuple[str, ...]] = set()
+        delete: set[tuple[str, ...]] = set()
+        for b in matches:
+            _effects(body.effect, None, b, self._objects, add, delete)
+        self._effects[key] = (frozenset(add), frozenset(delete))
+        return self._effects[key]
 
     def matches(self, e: m.ForallEffect, binding: dict[str, str]) -> list[dict[str, str]] | None:
         """The bindings of ``e``'s variables under which its condition holds, or None where ``e``
@@ -272,7 +451,11 @@ class _StaticFacts:
         """The predicate's facts by their argument k (all of them in a list when k is None)."""
         key = (predicate, k)
         if key not in self._index:
-            facts = [f for f in self._state if f[0] == predicate]
+            state = self._state
+            if isinstance(state, Overlay):  # a static predicate's atoms: grouped with the base
+                self._index[key] = state.by(predicate, k)
+                return self._index[key]
+            facts = [f for f in state if f[0] == predicate]
             if k is None:
                 self._index[key] = facts
             else:

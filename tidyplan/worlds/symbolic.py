@@ -99,9 +99,11 @@ class SymbolicWorld(WorldReferee):
         cam = (self.robot[0], self.robot[1], s.camera_height)
         half = math.radians(s.fov_h_deg) / 2
         out = []
-        for it in sorted(self._placed(), key=lambda t: t.name):
+        placed = self._placed()
+        boxes = [self._box3(o) for o in placed]  # once a look: each item occludes the others
+        for it in sorted(placed, key=lambda t: t.name):
             occ = [b for b in self._furniture if b.name != it.on] + [
-                self._box3(o) for o in self._placed() if o is not it
+                b for o, b in zip(placed, boxes, strict=True) if o is not it
             ]
             z = self._base_z(it) + it.sz / 2
             miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
@@ -123,13 +125,16 @@ class SymbolicWorld(WorldReferee):
         s = self.scenario.sensing
         cam = (self.robot[0], self.robot[1], s.camera_height)
         out = []
-        for it in sorted(self._placed(), key=lambda t: t.name):
+        placed = self._placed()
+        boxes: list[Box3] | None = None  # each item's box, once a frame (if anything is framed)
+        for it in sorted(placed, key=lambda t: t.name):
             z = self._base_z(it) + it.sz / 2
             miss = self.frame_rng.random() < self.fn
             if miss or not in_frame(self.robot, self.heading, np.array([[it.x, it.y]]), np.array([z]), s)[0]:
                 continue
+            boxes = boxes or [self._box3(o) for o in placed]
             occ = [b for b in self._furniture if b.name != it.on] + [
-                self._box3(o) for o in self._placed() if o is not it
+                b for o, b in zip(placed, boxes, strict=True) if o is not it
             ]
             if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max):
                 out.append(it.seen(it.x, it.y))
