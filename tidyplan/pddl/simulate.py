@@ -173,11 +173,14 @@ class Simulator:
         state = self.close(state)
         add: set[tuple[str, ...]] = set()
         delete: set[tuple[str, ...]] = set()
-        _effects(action.effect, state, self._bind(action, args), self._objects, add, delete)
-        if isinstance(state, Overlay):
+        if isinstance(state, Overlay):  # (no derived predicates: close gave it back)
+            # a static condition's matches from the base's index, as in a run
+            static = self._static_for(state)
+            _effects(action.effect, state, self._bind(action, args), self._objects, add, delete, static)
             out = state.copy()
             out.change(add, delete)
             return out
+        _effects(action.effect, state, self._bind(action, args), self._objects, add, delete)
         return self.close(frozenset((state - delete) | add))  # PDDL: adds win over deletes
 
     def run(self, state: State, steps: Iterable[tuple[str, Sequence[str]]]) -> tuple[State, int | None]:
@@ -190,9 +193,7 @@ class Simulator:
         closure = self._closure
         if isinstance(state, Overlay) and closure is None:
             layered = state.copy()
-            if self._kept[0] is not state.base:
-                self._kept = (state.base, {})
-            static = _StaticFacts(layered, self._static_predicates(), self._objects, self._kept[1])
+            static = self._static_for(layered)
             for k, (name, args) in enumerate(steps):
                 action = self._action(name)
                 binding = self._bind(action, args)
@@ -220,6 +221,13 @@ class Simulator:
             if closure is not None:
                 closure.close(now)
         return frozenset(now), None
+
+    def _static_for(self, state: Overlay) -> _StaticFacts:
+        """A run's (or one step's) static facts over an overlay, with the forall effects kept
+        for its base from run to run (a new base forgets them)."""
+        if self._kept[0] is not state.base:
+            self._kept = (state.base, {})
+        return _StaticFacts(state, self._static_predicates(), self._objects, self._kept[1])
 
     def holds(self, formula: m.Formula, state: State) -> bool:
         return _holds(formula, self.close(state), {}, self._objects)
