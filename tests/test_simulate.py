@@ -102,8 +102,12 @@ def test_an_overlay_state_progresses_as_the_plain_state_it_stands_for():
         base = frozenset(a for a in atoms if rng.random() < 0.7)
         layered = Overlay(base, state - base)
         assert layered == state and len(layered) == len(state) and set(layered) == set(state)
-        takes = [(t, f[2]) for t in (f"t{k}" for k in rng.sample(range(5), 5)) for f in atoms
-                 if f[0] == "at" and f[1] == t]
+        takes = [
+            (t, f[2])
+            for t in (f"t{k}" for k in rng.sample(range(5), 5))
+            for f in atoms
+            if f[0] == "at" and f[1] == t
+        ]
         steps = [("take", args) for args in takes]
         for _ in range(2):  # the second run over the same base reads the kept effects
             plain, broken = sim.run(state, steps)

@@ -182,7 +182,9 @@ class RoomMap:
                 self._floors.popitem(last=False)
         return self._floors[key]
 
-    def _add_grasp(self, facts, p, floor, nav, static, bare, reachable, previous, avoid=(), taken=None) -> None:
+    def _add_grasp(
+        self, facts, p, floor, nav, static, bare, reachable, previous, avoid=(), taken=None
+    ) -> None:
         """Choose where the robot stands to grasp ``p``: a pose the navigation grid reaches now,
         else one it reaches once floor items are cleared (blocked), else one a pose adjustment
         reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier.
