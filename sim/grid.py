@@ -96,6 +96,8 @@ class OccupancyGrid:
         self._csr: csr_matrix | None = None
         self._label: np.ndarray | None = None  # every cell's component (_labels)
         self._reach: dict[int, list[Point]] = {}  # free_cells(reachable_from), by component
+        self._local: dict[tuple, tuple | None] = {}  # _without's answers (no memo of the caller's)
+        self._spans: tuple[np.ndarray, list[Box]] | None = None  # _obstacle_spans
 
     # ------------------------------------------------------------------ cells and points
     def xy(self, i: int, j: int) -> Point:
@@ -131,6 +133,20 @@ class OccupancyGrid:
         if label not in self._reach:
             self._reach[label] = [self.xy(*c) for c in self._component_of(start)]
         return list(self._reach[label])
+
+    def reaches(self, points: np.ndarray, reachable_from: Point) -> np.ndarray:
+        """For each of ``points`` ((n, 2)): is its cell free and connected to ``reachable_from``'s
+        (none where that is not free)? ``connected`` for many points at once."""
+        start = self.cell(*reachable_from)
+        if not self._free_cell(start) or not len(points):
+            return np.zeros(len(points), dtype=bool)
+        x0, _x1, y0, _y1 = self.bounds
+        i = np.floor((points[:, 0] - x0) / self.cell_size).astype(np.int64)
+        j = np.floor((points[:, 1] - y0) / self.cell_size).astype(np.int64)
+        inside = (i >= 0) & (i < self.shape[0]) & (j >= 0) & (j < self.shape[1])
+        out = np.zeros(len(points), dtype=bool)
+        out[inside] = self._labels[i[inside], j[inside]] == self._labels[start]
+        return out
 
     def free_cells_near(self, at: Point, r: float, reachable_from: Point) -> list[Point]:
         """Centres of the free cells connected to ``reachable_from`` whose cell lies in the square
@@ -246,6 +262,80 @@ class OccupancyGrid:
             others = [b for b in self.obstacles if b != box and _meet(self._span(b), (i0, i1, j0, j1))]
             free[i0:i1, j0:j1] |= self._clear_of(others, x, y)
         return _components(free)
+
+    def joins_without(
+        self, box: Box, pairs: tuple[np.ndarray, np.ndarray, np.ndarray], memo: dict | None = None
+    ) -> np.ndarray:
+        """``joined(components_without(box), pairs)`` for ``pair_cells`` pairs, as a bool array,
+        from the cells around ``box`` alone: taking it away frees only cells of its window, and
+        those join the components they touch there. Nothing is labelled over the whole grid
+        (per floor item and new floor, that was a fifth of a 96-object turn). ``memo``: a dict
+        the caller keeps across grids (the window's parts depend on the obstacles near it only).
+        """
+        i, j, inside = pairs
+        old = np.where(inside, self._labels[i, j], 0)  # (n, 2) each end's component now
+        local = self._without(box, self._local if memo is None else memo)
+        if local is None:  # it covers no cell: nothing is freed
+            return (old[:, 0] != 0) & (old[:, 0] == old[:, 1])
+        (e0, e1, f0, f1), parts, freed = local
+        # each freed part joins the components of the cells it touches; parts touching a common
+        # component are one (they meet through it): union by the smallest label
+        window = self._labels[e0:e1, f0:f1]
+        top = int(self._labels.max()) + 1
+        remap = np.arange(top + len(freed) + 1)
+        for n, part in enumerate(freed):
+            touched = np.unique(window[(parts == part) & (window > 0)])
+            ids = [top + n, *(int(t) for t in touched)]
+            roots = {int(_root(remap, x)) for x in ids}
+            low = min(roots)
+            for r in roots:
+                remap[r] = low
+        for x in range(len(remap)):
+            remap[x] = _root(remap, x)
+        ends = remap[old]
+        # an end in a freed part (a cell only ``box`` covered) is in that part's component
+        within = inside & (i >= e0) & (i < e1) & (j >= f0) & (j < f1)
+        for n, part in enumerate(freed):
+            at = np.zeros(within.shape, dtype=bool)
+            at[within] = parts[i[within] - e0, j[within] - f0] == part
+            ends[at & (old == 0)] = remap[top + n]
+        return (ends[:, 0] != 0) & (ends[:, 0] == ends[:, 1])
+
+    def _without(self, box: Box, memo: dict):
+        """The window around ``box`` (its span and a cell beyond), its free cells' parts with
+        ``box`` taken away (labels, 8-connected, within the window), and which parts hold a cell
+        that only ``box`` covered; None where it covers no cell. Kept in ``memo`` by the box, the
+        obstacles near it and the grid's make."""
+        window = self._window(box)
+        if window is None:
+            return None
+        (i0, i1, j0, j1), x, y = window
+        spans, boxes = self._obstacle_spans
+        meet = (spans[:, 0] < i1) & (i0 < spans[:, 1]) & (spans[:, 2] < j1) & (j0 < spans[:, 3])
+        others = tuple(boxes[k] for k in np.nonzero(meet)[0] if boxes[k] != box)
+        key = (box, others, self.bounds, self.cell_size, self.radius)
+        if key in memo:
+            return memo[key]
+        span_free = self.mask[i0:i1, j0:j1] | self._clear_of(others, x, y)
+        e0, e1 = max(i0 - 1, 0), min(i1 + 1, self.shape[0])
+        f0, f1 = max(j0 - 1, 0), min(j1 + 1, self.shape[1])
+        free = self.mask[e0:e1, f0:f1].copy()
+        free[i0 - e0 : i1 - e0, j0 - f0 : j1 - f0] = span_free
+        parts = _components(free)
+        new = free & ~self.mask[e0:e1, f0:f1]
+        freed = sorted(int(k) for k in np.unique(parts[new]))
+        if len(memo) > 8192:
+            memo.clear()
+        memo[key] = ((e0, e1, f0, f1), parts, freed)
+        return memo[key]
+
+    @property
+    def _obstacle_spans(self) -> tuple[np.ndarray, list[Box]]:
+        """The obstacles' spans as an (n, 4) array (no cell: an empty span), and the obstacles."""
+        if self._spans is None:
+            rows = [self._span(b) or (0, 0, 0, 0) for b in self.obstacles]
+            self._spans = (np.array(rows, dtype=np.int64).reshape(-1, 4), list(self.obstacles))
+        return self._spans
 
     def joined(self, labels: np.ndarray, pairs) -> list[bool]:
         """For each pair (a, b): whether both lie in one component of ``labels`` (a free one).
@@ -491,6 +581,12 @@ class OccupancyGrid:
                 if 0 <= a < n_i and 0 <= b < n_j and self.mask[a, b]:
                     g.add_edge((int(i), int(j)), (int(a), int(b)), weight=w)
         return nx.freeze(g)  # like the mask: shared maps must not be edited behind callers
+
+
+def _root(parent: np.ndarray, x: int) -> int:
+    while parent[x] != x:
+        x = int(parent[x])
+    return x
 
 
 def _meet(span: tuple[int, int, int, int] | None, other: tuple[int, int, int, int]) -> bool:

@@ -268,3 +268,33 @@ def test_the_free_cells_near_a_point_are_those_of_its_component_there():
             assert sorted(near) == sorted(want)
         assert any(grid.free_cells_near((1.7, 1.5), 0.6, reachable_from=(0.5, 1.5)))
     assert grid.free_cells_near((1.7, 1.5), 0.6, reachable_from=(2.0, 1.5)) == []  # in the wall
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_what_taking_one_box_away_joins_is_what_a_grid_without_it_joins(seed):
+    """joins_without works from the box's window only (the parts its cells make there, joined
+    through the components they touch); whatever the floor, it answers as a relabelled grid
+    without the box does, for pairs anywhere (in the box's cells too, outside the room too)."""
+    import random
+
+    rng = random.Random(seed)
+    # crowded floors: boxes that shut passages, touch each other, stand in corners
+    boxes = [
+        Box(rng.uniform(0.2, 3.8), rng.uniform(0.2, 2.8), *(rng.uniform(0.05, 0.9) for _ in "xy"), f"b{k}")
+        for k in range(rng.randint(6, 18))
+    ]
+    grid = OccupancyGrid(ROOM, boxes, radius=R)
+    points = [(rng.uniform(-0.2, 4.2), rng.uniform(-0.2, 3.2)) for _ in range(60)]
+    points += [(b.cx, b.cy) for b in boxes]  # ends under a box: free only once it is gone
+    pairs = [(rng.choice(points), rng.choice(points)) for _ in range(300)]
+    cells = grid.pair_cells(pairs)
+    memo: dict = {}
+    joined_any = 0
+    for box in boxes:
+        want = grid.joined(grid.components_without(box), cells)
+        got = grid.joins_without(box, cells, memo)
+        assert got.tolist() == want, box
+        again = OccupancyGrid(ROOM, boxes, radius=R).joins_without(box, cells, memo)  # from the memo
+        assert again.tolist() == want
+        joined_any += sum(a and not b for a, b in zip(want, grid.joined(grid._labels, cells), strict=True))
+    assert joined_any  # some box, taken away, joined a pair: the test is of something

@@ -42,12 +42,13 @@ FLOORS_KEPT = 4  # floors whose grasp poses and blockers are kept (a failed gras
 class _Floor:
     """What one floor (the placed items, the open drawers) gives that the robot's pose does not
     change: the grasp poses chosen from each component the robot can stand in, each blocked
-    pair's blockers, and the components with each floor item taken away. After a move, the
-    facts cost the robot's own waypoint; the whole room is worked out only for a new floor."""
+    pair's blockers, the fixed waypoints' pairs. After a move, the facts cost the robot's own
+    waypoint. A new floor puts them together again from what the RoomMap keeps across floors
+    (each item's grasp facts, each box's window without it, each static path's items), so it
+    works out anew only what lies near the change."""
 
     grasp: dict[tuple, MapFacts] = field(default_factory=dict)
     blockers: dict[tuple[Point, Point], tuple[str, ...]] = field(default_factory=dict)
-    without: dict[Box, np.ndarray] = field(default_factory=dict)
     paths: dict[tuple, MapFacts] = field(default_factory=dict)  # _add_paths' fixed pairs
 
 
@@ -73,6 +74,11 @@ class RoomMap:
         self._lines: dict[tuple, np.ndarray] = {}  # static paths' cells, for _near_paths
         self._discs: dict[tuple, np.ndarray] = {}  # the cells near an item, for _near_paths
         self._crossings: dict[tuple, tuple] = {}  # _crossing's answers, by item and floor near it
+        self._without: dict[tuple, tuple | None] = {}  # OccupancyGrid.joins_without's, across floors
+        self._near: dict[tuple, tuple] = {}  # a static path's floor items: (those asked, those near)
+        self._poses: dict[tuple, MapFacts | object] = {}  # one item's grasp facts, by what they depend on
+        self._windows: dict[Point, np.ndarray] = {}  # _beyond_reach's cells around an item
+        self._ring_arrays: dict[Point, np.ndarray] = {}  # _ring's cells as an (n, 2) array
         static = self.grid(())
         self.entrance = static.nearest_free(*scenario.entrance)
         self.fixed: dict[str, Point] = {ENTRANCE: self.entrance}
@@ -145,7 +151,8 @@ class RoomMap:
         chosen = floor_memo.grasp.get(key)
         if chosen is None:
             # the grasp poses depend on the robot only through the cells it reaches: its component
-            reachable = set(nav.free_cells(reachable_from=self._origin))
+            # (listed only if an item's pose is chosen anew: most are kept, ``_poses``)
+            reachable = _Lazy(lambda: set(nav.free_cells(reachable_from=self._origin)))
             chosen = MapFacts()
             # the floor's boxes as arrays: which are near an item, for every item at once (a loop
             # over every pair was a seventh of a turn at 96 objects)
@@ -153,10 +160,46 @@ class RoomMap:
             taken = _Taken()
             for p in sorted(items, key=lambda p: p.name):
                 bad, previous = (avoid or {}).get(p.name, []), (sticky or {}).get(p.name)
-                near = _near_boxes(boxes, p.xy, GRASP_MAX + 0.5)
-                self._add_grasp(
-                    chosen, p, [floor[i] for i in near], nav, static, bare, reachable, previous, bad, taken
-                )
+                # the floor items that can cross the reach from a ring cell, stand on one, or
+                # take one from the bare footprint: within the reach and the base's radius
+                near = tuple(floor[i] for i in _near_boxes(boxes, p.xy, GRASP_MAX + self.bare_radius + 0.03))
+                # The pose depends on the item, the floor near it, the poses taken near it, the
+                # pose kept and those avoided, which of its ring's cells the robot reaches, and
+                # (for one not reached now) the room around it: kept by those, so a new floor
+                # chooses again only near what changed (choosing for every item of the room,
+                # each new floor, was a third of a 96-object turn)
+                others = taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6)
+                if others:  # those within 0.1 m of a ring cell: the only ones that rule one out
+                    ring = self._ring_array(p.xy)
+                    others = [
+                        q for q, ok in zip(others, _apart(ring, others, 0.1, axis=0), strict=True) if not ok
+                    ]
+                others = tuple(sorted(others))
+                reach = nav.reaches(self._ring_array(p.xy), self._origin).tobytes()
+                key_p = (p.name, p.xy, near, self._out, previous, tuple(bad), others, reach)
+                one = self._poses.get(key_p)
+                if one is _LATER:  # not reached now: what the tiers beyond look at, too
+                    key_p = (*key_p, *self._beyond_reach(p, nav, static, boxes, floor))
+                    one = self._poses.get(key_p)
+                if one is None:
+                    one = MapFacts()
+                    tier = self._add_grasp(
+                        one, p, list(near), nav, static, bare, reachable, previous, bad, taken
+                    )
+                    if len(self._poses) > 16_384:
+                        self._poses.clear()
+                    if tier != 1 and len(key_p) == 8:
+                        self._poses[key_p] = _LATER
+                        key_p = (*key_p, *self._beyond_reach(p, nav, static, boxes, floor))
+                    self._poses[key_p] = one
+                chosen.points.update(one.points)
+                chosen.kind.update(one.kind)
+                chosen.grasp.update(one.grasp)
+                chosen.unreachable.extend(one.unreachable)
+                chosen.adjust.update(one.adjust)
+                chosen.reach_blockers.update(one.reach_blockers)
+                for q in one.points.values():
+                    taken.add(q)
             floor_memo.grasp[key] = chosen
         facts.points.update(chosen.points)
         facts.kind.update(chosen.kind)
@@ -184,12 +227,12 @@ class RoomMap:
 
     def _add_grasp(
         self, facts, p, floor, nav, static, bare, reachable, previous, avoid=(), taken=None
-    ) -> None:
+    ) -> int:
         """Choose where the robot stands to grasp ``p``: a pose the navigation grid reaches now,
         else one it reaches once floor items are cleared (blocked), else one a pose adjustment
         reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier.
         ``taken``: the grasp and adjustment poses chosen so far (``_Taken``), else read from
-        ``facts``."""
+        ``facts``. Returns the tier: 1 now, 2 blocked, 3 tight, 0 none (unreachable)."""
         crossing = dict(self._crossing(p, tuple(floor), bare))
         if taken is None:
             taken = _Taken()
@@ -210,8 +253,7 @@ class RoomMap:
         if now:
             facts.points[name], facts.kind[name] = min(now, key=rank), "grasp"
             facts.grasp[p.name] = name
-            taken.add(facts.points[name])
-            return
+            return 1
         # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
         # its paths would be blocked by the item to be taken from there (no plan could start)
         own = self.grid([p.box(), *self._out]) if p.on_floor else static
@@ -223,10 +265,9 @@ class RoomMap:
             c = min(later, key=rank)
             facts.points[name], facts.kind[name] = c, "grasp"
             facts.grasp[p.name] = name
-            taken.add(c)
             if crossing[c]:
                 facts.reach_blockers[name] = crossing[c]
-            return
+            return 2
         tight = []
         for c in candidates:
             if not bare.free(*c):
@@ -239,15 +280,14 @@ class RoomMap:
                 tight.append((rank(c), c, min(base, key=lambda q: (math.dist(q, c), q))))
         if not tight:
             facts.unreachable.append(p.name)
-            return
+            return 0
         _, c, base = min(tight)
         facts.points[name], facts.kind[name] = c, "grasp"
         facts.points[name + "-base"], facts.kind[name + "-base"] = base, "adjust"
         facts.grasp[p.name] = name
-        taken.add(c)
-        taken.add(base)
         d = round(math.dist(base, c), 2)
         facts.adjust[(name + "-base", name)] = facts.adjust[(name, name + "-base")] = d
+        return 3
 
     def _crossing(self, p: Placed, floor: tuple[Box, ...], bare: OccupancyGrid) -> tuple:
         """Each cell of ``p``'s ring with the floor items a grasp from there must wait for: those
@@ -284,6 +324,33 @@ class RoomMap:
         if len(self._crossings) > 4096:  # a mission's items, where they were seen, their floors
             self._crossings.clear()
         self._crossings[key] = hit
+        return hit
+
+    def _beyond_reach(self, p: Placed, nav, static, boxes: np.ndarray, floor: list[Box]) -> tuple:
+        """What a grasp pose not reached now depends on beyond ``_poses``' first key: the part
+        of the room with only ``p`` on the floor that the robot is in (blocked poses), the floor
+        items and the cells the robot reaches within a pose adjustment of the ring (tight ones)."""
+        own = self.grid([p.box(), *self._out]) if p.on_floor else static
+        room = own.component(*(self._origin if own.free(*self._origin) else self.entrance))
+        r = GRASP_MAX + ADJUST_MAX + 0.1
+        wider = tuple(floor[i] for i in _near_boxes(boxes, p.xy, r + self.bare_radius + 0.1))
+        if p.xy not in self._windows:
+            if len(self._windows) > 4096:
+                self._windows.clear()
+            static_cells = self.grid(())
+            i0, j0 = static_cells.cell(p.x - r, p.y - r)
+            i1, j1 = static_cells.cell(p.x + r, p.y + r)
+            self._windows[p.xy] = np.array(
+                [static_cells.xy(i, j) for i in range(i0, i1 + 1) for j in range(j0, j1 + 1)], dtype=float
+            )
+        return room, wider, nav.reaches(self._windows[p.xy], self._origin).tobytes()
+
+    def _ring_array(self, at: Point) -> np.ndarray:
+        hit = self._ring_arrays.get(at)
+        if hit is None:
+            if len(self._ring_arrays) > 4096:
+                self._ring_arrays.clear()
+            hit = self._ring_arrays[at] = np.array(self._ring(at), dtype=float).reshape(-1, 2)
         return hit
 
     def _ring(self, at: Point) -> list[Point]:
@@ -462,21 +529,42 @@ class RoomMap:
     def _find_blockers(self, items, pairs: list[tuple[Point, Point]], floor_memo: _Floor) -> None:
         floor = [p for p in items if p.on_floor]
         nav = self.grid([p.box() for p in floor] + list(self._out))
-        cells = nav.pair_cells(pairs)
-        freed = np.zeros((len(floor), len(pairs)), dtype=bool)  # item k, taken alone, frees pair n
+        # Whether taking one item away joins a pair depends on the components its two ends are
+        # in, where an end stands in one (an end no cell of the grid holds: on that end): pairs
+        # of the same two components get one answer (a two-room floor: thousands of pairs, a
+        # few dozen such kinds)
+        kinds: dict[Point, tuple] = {}
+        for q in {q for pair in pairs for q in pair}:
+            label = nav.component(*q)
+            kinds[q] = ("component", label) if label else ("point", q)
+        first: dict[tuple, int] = {}  # a kind of pair -> its first pair, which answers for it
+        kind_of = [first.setdefault((kinds[a], kinds[b]), n) for n, (a, b) in enumerate(pairs)]
+        ask = sorted(set(kind_of))
+        cells = nav.pair_cells([pairs[n] for n in ask])
+        freed = np.zeros((len(floor), len(ask)), dtype=bool)  # item k, taken alone, frees pair n
         for k, p in enumerate(floor):
-            box = p.box()
-            if box not in floor_memo.without:
-                floor_memo.without[box] = nav.components_without(box)
-            freed[k] = nav.joined(floor_memo.without[box], cells)
-        # failing any single item, every floor item near the pair's path on the static map
-        alone = np.nonzero(~freed.any(axis=0))[0]
-        near = self._near_paths(self.grid(self._out), floor, [pairs[n] for n in alone])
+            freed[k] = nav.joins_without(p.box(), cells, self._without)
+        who_of = {n: tuple(floor[k].name for k in np.nonzero(freed[:, m])[0]) for m, n in enumerate(ask)}
         for n, (a, b) in enumerate(pairs):
-            who = [floor[k].name for k in np.nonzero(freed[:, n])[0]]
-            floor_memo.blockers[(a, b)] = tuple(who)
-        for n, row in zip(alone, near, strict=True):
-            floor_memo.blockers[pairs[n]] = tuple(floor[k].name for k in np.nonzero(row)[0])
+            floor_memo.blockers[(a, b)] = who_of[kind_of[n]]
+        # failing any single item, every floor item near the pair's path on the static map:
+        # an item's being near a path depends on the two alone (the static map's path does not
+        # change with the floor), so what was found is kept for the items it was found for
+        boxes = [(p.name, p.x, p.y, p.sx, p.sy) for p in floor]  # tuples: C's hashing, not Box's
+        index = {b: k for k, b in enumerate(boxes)}
+        now = frozenset(boxes)
+        alone = [pairs[n] for n, kind in enumerate(kind_of) if not who_of[kind]]
+        todo = [q for q in alone if not now <= self._near.get((self._out, *q), (frozenset(), ()))[0]]
+        if todo:
+            if len(self._near) > 50_000:
+                self._near.clear()
+            for q, row in zip(todo, self._near_paths(self.grid(self._out), floor, todo), strict=True):
+                self._near[(self._out, *q)] = (now, tuple(boxes[k] for k in np.nonzero(row)[0]))
+        for q in alone:
+            near = self._near[(self._out, *q)][1]
+            floor_memo.blockers[q] = tuple(
+                floor[k].name for k in sorted(index[b] for b in near if b in index)
+            )
 
     def _near_paths(self, static: OccupancyGrid, floor: list[Placed], pairs) -> np.ndarray:
         """For each pair (a, b), which floor items stand within the navigation radius + 0.1 m
@@ -532,6 +620,21 @@ class RoomMap:
         return self._lines[key]
 
 
+_LATER = object()  # in RoomMap._poses: not reached now, the wider key decides
+
+
+class _Lazy:
+    """A set made when first asked whether it holds something."""
+
+    def __init__(self, make) -> None:
+        self._make, self._set = make, None
+
+    def __contains__(self, x) -> bool:
+        if self._set is None:
+            self._set = self._make()
+        return x in self._set
+
+
 class _Taken:
     """The grasp and adjustment poses chosen so far in one ``facts``, by 1 m square: which lie
     near an item is a look at the squares around it, not at every pose of the room."""
@@ -561,17 +664,20 @@ def _near_boxes(boxes: np.ndarray, xy: Point, within: float) -> np.ndarray:
     return np.nonzero(np.hypot(dx, dy) <= within + 1e-9)[0]
 
 
-def _apart(cells: list[Point], points: list[Point], gap: float) -> np.ndarray:
-    """Which of ``cells`` are at least ``gap`` from every one of ``points``: math.dist's verdict
-    (numpy decides the clear cases, math.dist those within 1e-9 m of the gap, as in _ring)."""
-    keep = np.ones(len(cells), dtype=bool)
-    if not cells or not points:
-        return keep
-    c, q = np.array(cells, dtype=float), np.array(points, dtype=float)
+def _apart(cells, points: list[Point], gap: float, axis: int = 1) -> np.ndarray:
+    """Which of ``cells`` are at least ``gap`` from every one of ``points`` (``axis`` 0: which of
+    ``points`` are at least ``gap`` from every cell): math.dist's verdict (numpy decides the
+    clear cases, math.dist those within 1e-9 m of the gap, as in _ring)."""
+    if not len(cells) or not len(points):
+        return np.ones(len(cells) if axis == 1 else len(points), dtype=bool)
+    c, q = np.asarray(cells, dtype=float), np.asarray(points, dtype=float)
     d = np.hypot(c[:, None, 0] - q[None, :, 0], c[:, None, 1] - q[None, :, 1])
-    keep = (d >= gap + 1e-9).all(axis=1)
-    for k in np.nonzero(~keep & (d >= gap - 1e-9).all(axis=1))[0]:
-        keep[k] = all(math.dist(cells[k], x) >= gap for x in points)
+    keep = (d >= gap + 1e-9).all(axis=axis)
+    for k in np.nonzero(~keep & (d >= gap - 1e-9).all(axis=axis))[0]:
+        if axis == 1:
+            keep[k] = all(math.dist(tuple(c[k]), tuple(x)) >= gap for x in q)
+        else:
+            keep[k] = all(math.dist(tuple(x), tuple(q[k])) >= gap for x in c)
     return keep
 
 

@@ -31,7 +31,7 @@ from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import COST, GOAL, VOCABULARY
 from tidyplan.pddl import model as m
 from tidyplan.pddl.criterion import DEFAULT_REWARD
-from tidyplan.pddl.simulate import Overlay
+from tidyplan.pddl.simulate import Atoms, Overlay
 from tidyplan.pddl.writer import problem_text
 from tidyplan.planning.removal import Waypoint, removal_waypoint
 
@@ -201,7 +201,7 @@ def belief_state(
     atoms = _contents(belief, facts, virtual, None, domain, with_map=False)[0]
     base, added, removed = _map_layers(facts)
     if domain is not None and not all(domain.predicate(p) is not None for p in _MAP_PREDICATES):
-        base = frozenset(a for a in base if domain.predicate(a[0]) is not None)
+        base = Atoms({k: v for k, v in base.parts.items() if domain.predicate(k) is not None})
         added = {a for a in added if domain.predicate(a[0]) is not None}
     # the map's part shared, not copied: a turn adds the robot's pairs and the belief's few
     # hundred atoms to it
@@ -264,18 +264,18 @@ def _contents(belief, facts, virtual, keep, domain, with_map=True):
 
 # id(facts) -> (facts, (speed, the lengths written), atoms, values)
 _MAP_PARTS: dict[int, tuple[MapFacts, tuple, list, list]] = {}
-_MAP_SETS: dict[int, tuple[MapFacts, frozenset]] = {}  # id(facts) -> (facts, its atoms as a set)
+_MAP_SETS: dict[int, tuple[MapFacts, Atoms]] = {}  # id(facts) -> (facts, its atoms as a set)
 _MAP_PREDICATES = ("path", "blocked", "blocks", "pose-adjustment")  # the atoms _map_part writes
 
 
-def _map_layers(facts: MapFacts) -> tuple[frozenset, set, set]:
+def _map_layers(facts: MapFacts) -> tuple[Atoms, set, set]:
     """``_map_part``'s atoms as (base, added, removed): the atoms of the floor's shared pairs
     (``MapFacts.shared``), kept with them, and what this answer adds and drops; a map put
     together otherwise is all base. After a move only the robot's pairs are new: a turn reads
     those, not the hundred thousand atoms of a 96-object room's pairs."""
     if facts.shared is None or facts.own is None:
         return _map_set(facts), set(), set()
-    added = set(_atoms(facts.own))
+    added = {a for atoms in _atoms(facts.own) for a in atoms}
     removed = set()
     for a, b in facts.dropped:
         for atom, there in ((("path", a, b), (a, b) in facts.blocked), (("pose-adjustment", a, b), False)):
@@ -286,22 +286,28 @@ def _map_layers(facts: MapFacts) -> tuple[frozenset, set, set]:
 
 
 def _atoms(facts: MapFacts):
-    yield from (("path", u, v) for u, v in facts.path)
-    yield from (("path", u, v) for u, v in facts.blocked)
-    yield from (("blocked", u, v) for u, v in facts.blocked)
-    yield from (("blocks", item, u, v) for item, u, v in facts.blocks)
-    yield from (("pose-adjustment", u, v) for u, v in facts.adjust)
+    yield from _by_predicate(facts).values()
 
 
-def _map_set(facts: MapFacts) -> frozenset:
-    """``_map_part``'s atoms as a set, unsorted (sorting a 96-object room's paths and blockers
-    for each new map was a twentieth of a mission); kept like the parts."""
+def _by_predicate(facts: MapFacts) -> dict[str, list]:
+    return {
+        "path": [("path", u, v) for u, v in facts.path] + [("path", u, v) for u, v in facts.blocked],
+        "blocked": [("blocked", u, v) for u, v in facts.blocked],
+        "blocks": [("blocks", item, u, v) for item, u, v in facts.blocks],
+        "pose-adjustment": [("pose-adjustment", u, v) for u, v in facts.adjust],
+    }
+
+
+def _map_set(facts: MapFacts) -> Atoms:
+    """``_map_part``'s atoms as a set by predicate, unsorted (sorting a 96-object room's paths
+    and blockers for each new map was a twentieth of a mission); kept like the parts."""
     hit = _MAP_SETS.get(id(facts))
     if hit is not None and hit[0] is facts:
         return hit[1]
     if len(_MAP_SETS) >= 4:
         _MAP_SETS.clear()
-    _MAP_SETS[id(facts)] = (facts, frozenset(_atoms(facts)))
+    parts = {k: frozenset(v) for k, v in _by_predicate(facts).items()}
+    _MAP_SETS[id(facts)] = (facts, Atoms(parts))
     return _MAP_SETS[id(facts)][1]
 
 

@@ -42,7 +42,7 @@ class Overlay(AbstractSet):
 
     __slots__ = ("base", "added", "removed")
 
-    def __init__(self, base: frozenset, added: Iterable[Atom] = (), removed: Iterable[Atom] = ()) -> None:
+    def __init__(self, base: AbstractSet, added: Iterable[Atom] = (), removed: Iterable[Atom] = ()) -> None:
         self.base = base
         self.added = {a for a in added if a not in base}
         self.removed = {a for a in removed if a in base}
@@ -102,6 +102,34 @@ class Overlay(AbstractSet):
         return out
 
 
+class Atoms(AbstractSet):
+    """A frozen state kept by predicate (a frozenset of atoms for each): what an overlay's base
+    is best made of, since a run asks for a static predicate's atoms, and finding them in one
+    set of a hundred thousand was a pass over all of them per new map."""
+
+    __slots__ = ("parts", "_len")
+
+    def __init__(self, parts: Mapping[str, frozenset]) -> None:
+        self.parts = {k: v for k, v in parts.items() if v}
+        self._len = sum(len(v) for v in self.parts.values())
+
+    @classmethod
+    def _from_iterable(cls, it: Iterable[Atom]) -> frozenset:
+        return frozenset(it)
+
+    def __contains__(self, atom: object) -> bool:
+        part = self.parts.get(atom[0]) if isinstance(atom, tuple) and atom else None
+        return part is not None and atom in part
+
+    def __iter__(self) -> Iterator[Atom]:
+        return chain.from_iterable(self.parts.values())
+
+    def __len__(self) -> int:
+        return self._len
+
+    __hash__ = AbstractSet._hash
+
+
 _GROUPS: dict[int, tuple[frozenset, dict]] = {}  # id(base) -> (base, {(predicate, k): grouping})
 
 
@@ -113,8 +141,11 @@ def _grouped(base: frozenset, predicate: str, k: int | None):
         if len(_GROUPS) >= 4:
             _GROUPS.clear()
         by: dict = {None: {}}
-        for a in base:
-            by[None].setdefault(a[0], []).append(a)
+        if isinstance(base, Atoms):
+            by[None] = base.parts  # kept by predicate already
+        else:
+            for a in base:
+                by[None].setdefault(a[0], []).append(a)
         hit = _GROUPS[id(base)] = (base, by)
     groups = hit[1]
     if (predicate, k) not in groups:
