@@ -90,8 +90,8 @@ def test_a_forall_of_a_subtype_takes_no_object_of_the_supertype():
 def test_an_overlay_state_progresses_as_the_plain_state_it_stands_for():
     """The monitor's state is an Overlay: a shared base (the map's atoms) and a small part. Run
     and apply over it give what they give over the same atoms as one frozenset, whatever the
-    split; the forall effects kept from run to run over one base are not used by a run whose
-    small part has atoms of their condition (here a blocks fact the base lacks)."""
+    split; the forall effects kept from run to run (by the facts of their condition they were
+    read from) are not those of a run whose small part adds one (a blocks fact the base lacks)."""
     domain = parse(DOMAIN)
     for seed in range(30):
         rng = random.Random(seed)
@@ -118,7 +118,8 @@ def test_an_overlay_state_progresses_as_the_plain_state_it_stands_for():
         for args in takes[:3]:
             now, now_layered = sim.apply(now, "take", args), sim.apply(now_layered, "take", args)
             assert now_layered == now
-        # one more blocks fact in the small part: the kept answers must not serve this run
+        # one more blocks fact in the small part: the answers kept from the runs above must not
+        # serve this one
         t, a, b = "t0", "hub", "s0"
         extra = Overlay(base, (state - base) | {("blocks", t, a, b), ("shut", a, b)})
         plain_extra = state | {("blocks", t, a, b), ("shut", a, b)}

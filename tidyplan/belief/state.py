@@ -216,19 +216,19 @@ class Belief:
             matched.add(name)
             update.new.append(name)
         boxes = None  # the believed items as occluders, built once for this look's misses
-        for k in self.untidied():
-            if k.state != "placed" or k.name in matched:
-                continue
-            # the frame's field and the stops first: they are cheap, the line of sight is not
-            if (
-                wedge
-                and not self._in_frame(at, frame.heading, *self._xyz(k), miss=True, tilt=frame.tilt_deg)[0]
-            ):
-                continue
-            if (
-                stops is not None
-                and not in_stops(at, stops, self._xyz(k)[0], self.scenario.sensing.fov_h_deg, MISS_WIDTH)[0]
-            ):
+        missed = [k for k in self.untidied() if k.state == "placed" and k.name not in matched]
+        # the frame's field and the stops first, for all of them at once: they are cheap, the
+        # line of sight is not
+        shown = np.ones(len(missed), dtype=bool)
+        if missed and (wedge or stops is not None):
+            xy = np.array([[k.x, k.y] for k in missed], dtype=float)
+            if wedge:
+                z = np.array([self._z(k) for k in missed], dtype=float)
+                shown &= self._in_frame(at, frame.heading, xy, z, miss=True, tilt=frame.tilt_deg)
+            if stops is not None:
+                shown &= in_stops(at, stops, xy, self.scenario.sensing.fov_h_deg, MISS_WIDTH)
+        for k, framed in zip(missed, shown, strict=True):
+            if not framed:
                 continue
             if boxes is None:
                 boxes = self.item_boxes()

@@ -173,8 +173,8 @@ class Simulator:
                 self._objects.setdefault(t, []).append(obj.name)
         self._closure: Closure | None = None
         self._changed: set[str] | None = None  # predicates some action or rule changes (statically_possible)
-        # forall effects' answers over an overlay's base, kept from run to run (_StaticFacts.effect)
-        self._kept: tuple[frozenset | None, dict] = (None, {})
+        # forall effects' answers, kept from run to run (_StaticFacts.effect)
+        self._kept: dict = {}
         if domain.derived:
             objects = self._objects
             self._closure = Closure(
@@ -255,10 +255,8 @@ class Simulator:
 
     def _static_for(self, state: Overlay) -> _StaticFacts:
         """A run's (or one step's) static facts over an overlay, with the forall effects kept
-        for its base from run to run (a new base forgets them)."""
-        if self._kept[0] is not state.base:
-            self._kept = (state.base, {})
-        return _StaticFacts(state, self._static_predicates(), self._objects, self._kept[1])
+        from run to run."""
+        return _StaticFacts(state, self._static_predicates(), self._objects, self._kept)
 
     def holds(self, formula: m.Formula, state: State) -> bool:
         return _holds(formula, self.close(state), {}, self._objects)
@@ -402,11 +400,6 @@ def _literals(e) -> bool:
     return isinstance(e, m.AndEffect) and all(_literals(p) for p in e.parts)
 
 
-def _touches(state: Overlay, predicate: str | None) -> bool:
-    """Whether the overlay's small part adds or removes an atom of ``predicate``."""
-    return any(a[0] == predicate for a in chain(state.added, state.removed))
-
-
 class _StaticFacts:
     """A run's facts of the predicates nothing changes, by predicate, found when first asked.
 
@@ -420,42 +413,72 @@ class _StaticFacts:
         self._state, self._predicates, self._objects = state, predicates, objects
         self._index: dict[tuple[str, int | None], dict] = {}
         self._typed: dict[tuple[str, ...], frozenset[str]] = {}
-        # ``effect``'s answers; ``kept`` (from the Simulator) outlives the run: valid while the
-        # state's base is the same and its small part holds no atom of the condition's predicate
+        # ``effect``'s answers, by the facts they were read from: ``kept`` (the Simulator's)
+        # serves every run over the same objects, whatever the state's other atoms
         self._effects: dict = {} if kept is None else kept
-        self._kept = kept is not None
-        self._clean: dict[str | None, bool] = {}  # predicate -> the small part has none of it
 
     def effect(self, e: m.ForallEffect, binding: dict[str, str]):
         """(adds, deletes) of ``e`` under ``binding`` where its body is literals only under a
         condition ``matches`` answers (so the state cannot change them), else None. A plan takes
-        the same item in every run of the monitor; the room's blockers of it are read once."""
+        the same item in every run of the monitor; the room's blockers of it are read once for
+        each set of them (a new floor changes a few items' blockers, not every item's). Over an
+        overlay, the base's facts and the small part's (the robot's own pairs: new after every
+        move) are read apart, the base's kept."""
         body = e.effect
         if not isinstance(body, m.When) or not _literals(body.effect):
             return None
-        if self._kept and isinstance(self._state, Overlay):
-            predicate = body.condition.predicate if isinstance(body.condition, m.Atom) else None
-            if predicate not in self._clean:
-                self._clean[predicate] = not _touches(self._state, predicate)
-            if not self._clean[predicate]:
-                return None  # the small part has atoms of the condition: none kept for it
-        key = (id(e), tuple(sorted(binding.items())))
-        hit = self._effects.get(key)
-        if hit is not None:
-            return hit
-        matches = self.matches(e, binding)
-        if matches is None:
+        found = self._candidates(e, binding)
+        if found is None:
             return None
+        atom, names, facts = found
+        parts = [facts]
+        state = self._state
+        if isinstance(state, Overlay) and not any(a[0] == atom.predicate for a in state.removed):
+            fixed = next((k for k, a in enumerate(atom.args) if a not in names), None)
+            if fixed is not None:
+                value = binding.get(atom.args[fixed], atom.args[fixed])
+                base = _grouped(state.base, atom.predicate, fixed).get(value, [])
+                parts = [base, self._added(atom.predicate, fixed).get(value, [])]
         add: set[tuple[str, ...]] = set()
         delete: set[tuple[str, ...]] = set()
-        for b in matches:
-            _effects(body.effect, None, b, self._objects, add, delete)
-        self._effects[key] = (frozenset(add), frozenset(delete))
-        return self._effects[key]
+        for k, part in enumerate(parts):
+            key = (id(e), tuple(sorted(binding.items())), frozenset(part))
+            hit = self._effects.get(key) if k == 0 else None
+            if hit is None:
+                mine: set[tuple[str, ...]] = set()
+                gone: set[tuple[str, ...]] = set()
+                for b in self._bound(e, binding, atom, names, part):
+                    _effects(body.effect, None, b, self._objects, mine, gone)
+                hit = (frozenset(mine), frozenset(gone))
+                if k == 0:
+                    if len(self._effects) > 4096:
+                        self._effects.clear()
+                    self._effects[key] = hit
+            add |= hit[0]
+            delete |= hit[1]
+        return add, delete
+
+    def _added(self, predicate: str, k: int) -> dict[str, list]:
+        """An overlay's added atoms of ``predicate`` by their argument k (static: never changed
+        within a run)."""
+        key = ("added", predicate, k)
+        if key not in self._index:
+            by: dict[str, list] = {}
+            for a in self._state.added:
+                if a[0] == predicate and len(a) > k + 1:
+                    by.setdefault(a[k + 1], []).append(a)
+            self._index[key] = by
+        return self._index[key]
 
     def matches(self, e: m.ForallEffect, binding: dict[str, str]) -> list[dict[str, str]] | None:
         """The bindings of ``e``'s variables under which its condition holds, or None where ``e``
         is not ``(forall (vars) (when (static-atom) effect))`` with every variable in the atom."""
+        found = self._candidates(e, binding)
+        return None if found is None else self._bound(e, binding, *found)
+
+    def _candidates(self, e: m.ForallEffect, binding: dict[str, str]):
+        """(the condition's atom, the forall's variables, the facts that may match it), or None
+        where ``matches`` does not apply."""
         body = e.effect
         if not isinstance(body, m.When) or not isinstance(body.condition, m.Atom):
             return None
@@ -469,6 +492,9 @@ class _StaticFacts:
         facts = self._by(atom.predicate, fixed)
         if fixed is not None:
             facts = facts.get(binding.get(atom.args[fixed], atom.args[fixed]), [])
+        return atom, names, facts
+
+    def _bound(self, e: m.ForallEffect, binding: dict[str, str], atom, names, facts) -> list[dict[str, str]]:
         typed = {v.name: self._of_type(v.types) for v in e.variables}
         out = []
         for fact in facts:

@@ -101,11 +101,10 @@ class SymbolicWorld(WorldReferee):
         out = []
         placed = self._placed()
         boxes = [self._box3(o) for o in placed]  # once a look: each item occludes the others
+        across = _Across(self._furniture, placed, boxes)
         for it in sorted(placed, key=lambda t: t.name):
             z = self._base_z(it) + it.sz / 2
-            occ = _across(cam, (it.x, it.y), [b for b in self._furniture if b.name != it.on]) + [
-                b for o, b in zip(placed, boxes, strict=True) if o is not it and _spans(cam, (it.x, it.y), b)
-            ]
+            occ = across.between(cam, it)
             miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
             bearing = math.atan2(it.y - self.robot[1], it.x - self.robot[0])
             framed = stops is None or any(
@@ -126,7 +125,7 @@ class SymbolicWorld(WorldReferee):
         cam = (self.robot[0], self.robot[1], s.camera_height)
         out = []
         placed = self._placed()
-        boxes: list[Box3] | None = None  # each item's box, once a frame (if anything is framed)
+        across: _Across | None = None  # the occluders, once a frame (if anything is framed)
         ordered = sorted(placed, key=lambda t: t.name)
         zs = [self._base_z(it) + it.sz / 2 for it in ordered]
         misses = [self.frame_rng.random() < self.fn for _ in ordered]  # every item's, in turn
@@ -136,10 +135,8 @@ class SymbolicWorld(WorldReferee):
         for it, z, miss, seen in zip(ordered, zs, misses, framed, strict=True):
             if miss or not seen:
                 continue
-            boxes = boxes or [self._box3(o) for o in placed]
-            occ = _across(cam, (it.x, it.y), [b for b in self._furniture if b.name != it.on]) + [
-                b for o, b in zip(placed, boxes, strict=True) if o is not it and _spans(cam, (it.x, it.y), b)
-            ]
+            across = across or _Across(self._furniture, placed, [self._box3(o) for o in placed])
+            occ = across.between(cam, it)
             if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max):
                 out.append(it.seen(it.x, it.y))
         return Frame(self.robot, self.heading, out)
@@ -360,17 +357,27 @@ def _segment_free(grid, a: Point, b: Point, step: float = 0.05) -> bool:
     return all(grid.free(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) for k in range(1, n + 1))
 
 
-def _spans(a, b, box: Box3) -> bool:
-    """Whether the box's footprint overlaps the rectangle spanned by a and b (x, y): a box
-    outside it cannot meet the segment a-b, the slab test's verdict on x or y (only those are
-    tested for the line of sight: a look in a room of a hundred items met each of them)."""
-    return (
-        box.x0 <= max(a[0], b[0])
-        and box.x1 >= min(a[0], b[0])
-        and box.y0 <= max(a[1], b[1])
-        and box.y1 >= min(a[1], b[1])
-    )
+class _Across:
+    """A look's occluders (the furniture, then every placed item's box) as arrays: those whose
+    footprint overlaps the rectangle a line of sight spans, found for all at once. A box
+    outside it cannot meet the segment (the slab test's verdict on x or y): in a room of a
+    hundred items, testing each box for each item seen was most of a look."""
 
+    def __init__(self, furniture: list[Box3], placed: list, boxes: list[Box3]) -> None:
+        self.boxes = list(furniture) + list(boxes)
+        self.names = [b.name for b in furniture] + [None] * len(boxes)  # furniture: what it holds up
+        self.items = [None] * len(furniture) + list(placed)
+        self.xy = np.array([(b.x0, b.x1, b.y0, b.y1) for b in self.boxes], dtype=float).reshape(-1, 4)
 
-def _across(a, b, boxes: list[Box3]) -> list[Box3]:
-    return [x for x in boxes if _spans(a, b, x)]
+    def between(self, cam, it) -> list[Box3]:
+        """The boxes that may hide ``it`` from ``cam``: across its line of sight, neither it
+        nor the furniture it stands on."""
+        x0, x1 = min(cam[0], it.x), max(cam[0], it.x)
+        y0, y1 = min(cam[1], it.y), max(cam[1], it.y)
+        b = self.xy
+        hit = (b[:, 0] <= x1) & (b[:, 1] >= x0) & (b[:, 2] <= y1) & (b[:, 3] >= y0)
+        return [
+            self.boxes[k]
+            for k in np.nonzero(hit)[0]
+            if self.items[k] is not it and (self.names[k] is None or self.names[k] != it.on)
+        ]
