@@ -134,6 +134,16 @@ class OccupancyGrid:
             self._reach[label] = [self.xy(*c) for c in self._component_of(start)]
         return list(self._reach[label])
 
+    def free_at(self, points: np.ndarray) -> np.ndarray:
+        """``free`` for each of ``points`` ((n, 2)), at once."""
+        x0, _x1, y0, _y1 = self.bounds
+        i = np.floor((points[:, 0] - x0) / self.cell_size).astype(np.int64)
+        j = np.floor((points[:, 1] - y0) / self.cell_size).astype(np.int64)
+        inside = (i >= 0) & (i < self.shape[0]) & (j >= 0) & (j < self.shape[1])
+        out = np.zeros(len(points), dtype=bool)
+        out[inside] = self.mask[i[inside], j[inside]]
+        return out
+
     def reaches(self, points: np.ndarray, reachable_from: Point) -> np.ndarray:
         """For each of ``points`` ((n, 2)): is its cell free and connected to ``reachable_from``'s
         (none where that is not free)? ``connected`` for many points at once."""
@@ -223,6 +233,21 @@ class OccupancyGrid:
     def path(self, a: Point, b: Point) -> list[Point] | None:
         """A shortest path as the polyline of cell centres from a's cell to b's (both included),
         for the base to follow; None if unreachable."""
+        ks = self._path_nodes(a, b)
+        if ks is None:
+            return None
+        ij = self._free_ij
+        return [self.xy(int(ij[k, 0]), int(ij[k, 1])) for k in ks]
+
+    def path_cells(self, a: Point, b: Point) -> np.ndarray | None:
+        """``path``'s cells as flat indices (i * columns + j), in order; None if unreachable."""
+        ks = self._path_nodes(a, b)
+        if ks is None:
+            return None
+        ij = self._free_ij[ks]
+        return ij[:, 0] * self.shape[1] + ij[:, 1]
+
+    def _path_nodes(self, a: Point, b: Point) -> list[int] | None:
         ca, cb = self.cell(*a), self.cell(*b)
         if not (self._free_cell(ca) and self._free_cell(cb)):
             return None
@@ -234,8 +259,7 @@ class OccupancyGrid:
         while ks[-1] != ka:
             ks.append(int(before[ks[-1]]))
         ks.reverse()
-        ij = self._free_ij
-        return [self.xy(int(ij[k, 0]), int(ij[k, 1])) for k in ks]
+        return ks
 
     def connected(self, a: Point, b: Point) -> bool:
         """Whether a path joins a and b: the same component of the free cells."""

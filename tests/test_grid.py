@@ -4,6 +4,7 @@ import hashlib
 import itertools
 import math
 
+import numpy as np
 import pytest
 
 from sim.grid import Box, OccupancyGrid
@@ -298,3 +299,26 @@ def test_what_taking_one_box_away_joins_is_what_a_grid_without_it_joins(seed):
         assert again.tolist() == want
         joined_any += sum(a and not b for a, b in zip(want, grid.joined(grid._labels, cells), strict=True))
     assert joined_any  # some box, taken away, joined a pair: the test is of something
+
+
+def test_the_array_answers_are_the_point_by_point_ones():
+    """free_at, reaches and path_cells (the map's facts ask them of a ring or a path at once)
+    answer as free, connected and path do, cell centres and points between them alike."""
+    import random
+
+    rng = random.Random(5)
+    grid = OccupancyGrid(ROOM, [Box(2.0, 1.5, 0.1, 3.2, "wall"), Box(1.0, 1.0, 0.4, 0.4, "crate")], radius=R)
+    points = [(rng.uniform(-0.3, 4.3), rng.uniform(-0.3, 3.3)) for _ in range(400)]
+    points += [grid.xy(i, j) for i in range(0, 80, 7) for j in range(0, 60, 7)]
+    arr = np.array(points)
+    assert grid.free_at(arr).tolist() == [grid.free(*q) for q in points]
+    for start in ((0.5, 2.5), (3.5, 1.5), (2.0, 1.5)):
+        want = [grid.free(*start) and grid.connected(start, q) for q in points]
+        assert grid.reaches(arr, start).tolist() == want
+    for a, b in [((0.4, 0.4), (1.8, 2.6)), ((0.4, 0.4), (3.5, 1.5)), ((2.5, 0.3), (3.8, 2.8))]:
+        path = grid.path(a, b)
+        cells = grid.path_cells(a, b)
+        if path is None:
+            assert cells is None
+        else:
+            assert cells.tolist() == [i * grid.shape[1] + j for i, j in (grid.cell(*q) for q in path)]

@@ -318,9 +318,8 @@ class RoomMap:
                 crosses[k].append(b.name)
             for k in under_at:
                 under[k].append(b.name)
-        hit = tuple(
-            (c, tuple(crosses[k]) + (() if bare.free(*c) else tuple(under[k]))) for k, c in enumerate(ring)
-        )
+        free = bare.free_at(self._ring_array(p.xy))
+        hit = tuple((c, tuple(crosses[k]) + (() if free[k] else tuple(under[k]))) for k, c in enumerate(ring))
         if len(self._crossings) > 4096:  # a mission's items, where they were seen, their floors
             self._crossings.clear()
         self._crossings[key] = hit
@@ -378,7 +377,17 @@ class RoomMap:
         hit = self._pairs.get(key)
         if hit is None:
             cross = tuple(k for k, c in enumerate(ring) if _crosses(c, p.xy, b))
-            under = tuple(k for k, c in enumerate(ring) if b.clearance(*c) < self.bare_radius)
+            # the cells b stands on: numpy decides the clear cases, Box.clearance those within
+            # 1e-9 m of the radius (its verdict is the rule, as in the grids' masks)
+            xy = self._ring_array(p.xy)
+            d = np.hypot(
+                np.maximum(np.abs(xy[:, 0] - b.cx) - b.sx / 2, 0.0),
+                np.maximum(np.abs(xy[:, 1] - b.cy) - b.sy / 2, 0.0),
+            )
+            r = self.bare_radius
+            under = tuple(
+                int(k) for k in np.nonzero(d < r + 1e-9)[0] if d[k] < r - 1e-9 or b.clearance(*ring[k]) < r
+            )
             if len(self._pairs) > 65_536:  # pairs of items near each other, over a mission
                 self._pairs.clear()
             hit = self._pairs[key] = (cross, under)
@@ -559,12 +568,16 @@ class RoomMap:
             if len(self._near) > 50_000:
                 self._near.clear()
             for q, row in zip(todo, self._near_paths(self.grid(self._out), floor, todo), strict=True):
-                self._near[(self._out, *q)] = (now, tuple(boxes[k] for k in np.nonzero(row)[0]))
+                self._near[(self._out, *q)] = (now, tuple(sorted(boxes[k] for k in np.nonzero(row)[0])))
+        # kept in name order: a floor in name order (the belief's) gives them as they are
+        ordered = all(a[0] < b[0] for a, b in zip(boxes, boxes[1:], strict=False))
         for q in alone:
             near = self._near[(self._out, *q)][1]
-            floor_memo.blockers[q] = tuple(
-                floor[k].name for k in sorted(index[b] for b in near if b in index)
-            )
+            if ordered:
+                floor_memo.blockers[q] = tuple(b[0] for b in near if b in now)
+            else:
+                found = sorted(index[b] for b in near if b in index)
+                floor_memo.blockers[q] = tuple(floor[k].name for k in found)
 
     def _near_paths(self, static: OccupancyGrid, floor: list[Placed], pairs) -> np.ndarray:
         """For each pair (a, b), which floor items stand within the navigation radius + 0.1 m
@@ -615,8 +628,8 @@ class RoomMap:
         if key not in self._lines:
             if len(self._lines) > 50_000:
                 self._lines.clear()
-            cells = [static.cell(*q) for q in static.path(a, b) or []]
-            self._lines[key] = np.array([i * static.shape[1] + j for i, j in cells], dtype=np.int64)
+            cells = static.path_cells(a, b)
+            self._lines[key] = np.zeros(0, dtype=np.int64) if cells is None else cells.astype(np.int64)
         return self._lines[key]
 
 
