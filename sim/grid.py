@@ -78,15 +78,17 @@ class OccupancyGrid:
         *,
         cell: float = CELL,
         radius: float = ROBOT_RADIUS,
+        mask: np.ndarray | None = None,
     ) -> None:
-        """``bounds`` is (x0, x1, y0, y1), the room's walls, which are inflated like the boxes."""
+        """``bounds`` is (x0, x1, y0, y1), the room's walls, which are inflated like the boxes.
+        ``mask``: the free cells, worked out already (``changed``); else from the obstacles."""
         self.bounds = bounds
         self.obstacles = tuple(obstacles)
         self.cell_size = cell
         self.radius = radius
         x0, x1, y0, y1 = bounds
         self.shape = (round((x1 - x0) / cell), round((y1 - y0) / cell))
-        self.mask = self._free_mask()
+        self.mask = self._free_mask() if mask is None else mask
         self._graph_built: nx.Graph | None = None  # built on first use: ``graph``
         # one Dijkstra per source cell, remembered: lengths and the cell before each on its path
         self._trees: dict[Cell, np.ndarray] = {}  # by source cell: each free cell's predecessor
@@ -455,6 +457,31 @@ class OccupancyGrid:
             if not (0 <= c[0] < self.shape[0] and 0 <= c[1] < self.shape[1]) or labels[c] != labels[start]:
                 return False
         return True
+
+    def changed(self, obstacles: Sequence[Box], gone: Sequence[Box], new: Sequence[Box]) -> OccupancyGrid:
+        """The grid of ``obstacles``: this one's with ``gone`` taken away and ``new`` added. Only
+        their cells are worked out again (a floor differs from the last by an item or two; its
+        whole mask, every box's cells, was most of a new floor's grids). The free cells are the
+        same as a new grid's: a cell's verdict is each obstacle's, and only those whose cells
+        meet a changed box's can cover one of its cells."""
+        free = self.mask.copy()
+        spans, boxes = self._obstacle_spans
+        for box in gone:
+            window = self._window(box)
+            if window is None:
+                continue
+            (i0, i1, j0, j1), x, y = window
+            meet = (spans[:, 0] < i1) & (i0 < spans[:, 1]) & (spans[:, 2] < j1) & (j0 < spans[:, 3])
+            left = [boxes[k] for k in np.nonzero(meet)[0] if boxes[k] not in gone]
+            left += [b for b in new if _meet(self._span(b), (i0, i1, j0, j1))]
+            free[i0:i1, j0:j1] = self._clear_of(left, x, y)
+        for box in new:
+            window = self._window(box)
+            if window is not None:
+                (i0, i1, j0, j1), x, y = window
+                free[i0:i1, j0:j1] &= self._clear_of((box,), x, y)
+        free.flags.writeable = False
+        return OccupancyGrid(self.bounds, obstacles, cell=self.cell_size, radius=self.radius, mask=free)
 
     def with_obstacles(self, boxes: Iterable[Box]) -> OccupancyGrid:
         """A new grid with ``boxes`` added (e.g. objects seen on the floor); this one is unchanged."""

@@ -322,3 +322,30 @@ def test_the_array_answers_are_the_point_by_point_ones():
             assert cells is None
         else:
             assert cells.tolist() == [i * grid.shape[1] + j for i, j in (grid.cell(*q) for q in path)]
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_a_grid_changed_by_a_box_or_two_is_the_grid_made_anew(seed):
+    """OccupancyGrid.changed (a new floor's grid from the last one's) frees and covers exactly
+    the cells a grid made from scratch with the new obstacles does: boxes taken away, added,
+    both at once, touching each other and the walls."""
+    import random
+
+    rng = random.Random(seed)
+
+    def box(k):
+        return Box(
+            rng.uniform(0.0, 4.0), rng.uniform(0.0, 3.0), *(rng.uniform(0.05, 0.8) for _ in "xy"), f"b{k}"
+        )
+
+    boxes = [box(k) for k in range(rng.randint(4, 16))]
+    grid = OccupancyGrid(ROOM, boxes, radius=R)
+    for step in range(6):
+        gone = rng.sample(boxes, min(len(boxes), rng.choice([0, 1, 1, 2])))
+        new = [box(100 * seed + 10 * step + k) for k in range(rng.choice([0, 1, 1, 2]))]
+        after = [b for b in boxes if b not in gone] + new
+        changed = grid.changed(after, gone, new)
+        fresh = OccupancyGrid(ROOM, after, radius=R)
+        assert (changed.mask == fresh.mask).all(), (step, gone, new)
+        assert changed.obstacles == fresh.obstacles
+        grid, boxes = changed, after

@@ -50,6 +50,7 @@ class _Floor:
     grasp: dict[tuple, MapFacts] = field(default_factory=dict)
     blockers: dict[tuple[Point, Point], tuple[str, ...]] = field(default_factory=dict)
     paths: dict[tuple, MapFacts] = field(default_factory=dict)  # _add_paths' fixed pairs
+    focused: dict[tuple, MapFacts] = field(default_factory=dict)  # those among some waypoints
 
 
 class RoomMap:
@@ -79,6 +80,7 @@ class RoomMap:
         self._poses: dict[tuple, MapFacts | object] = {}  # one item's grasp facts, by what they depend on
         self._windows: dict[Point, np.ndarray] = {}  # _beyond_reach's cells around an item
         self._ring_arrays: dict[Point, np.ndarray] = {}  # _ring's cells as an (n, 2) array
+        self._ruled: dict[tuple[Point, Point], bool] = {}  # _rules_out's answers
         static = self.grid(())
         self.entrance = static.nearest_free(*scenario.entrance)
         self.fixed: dict[str, Point] = {ENTRANCE: self.entrance}
@@ -109,7 +111,20 @@ class RoomMap:
             while len(self._grids) > 64:  # a mission sees a few dozen floors; keep memory bounded
                 self._grids.popitem(last=False)
             boxes = tuple(f.box() for f in self.scenario.furniture) + tuple(sorted(key[1], key=_box_key))
-            self._grids[key] = OccupancyGrid(self.scenario.bounds, boxes, radius=radius)
+            # a floor an item or two from one kept: its grid from that one's, changed there only
+            near = next(
+                (
+                    (g, k[1])
+                    for k, g in reversed(self._grids.items())
+                    if k[0] == radius and len(k[1] ^ key[1]) <= 2
+                ),
+                None,
+            )
+            if near is not None:
+                grid, floor = near
+                self._grids[key] = grid.changed(boxes, tuple(floor - key[1]), tuple(key[1] - floor))
+            else:
+                self._grids[key] = OccupancyGrid(self.scenario.bounds, boxes, radius=radius)
         return self._grids[key]
 
     # ------------------------------------------------------------------ facts
@@ -120,13 +135,32 @@ class RoomMap:
         sticky: dict[str, Point] | None = None,
         avoid: dict[str, list[Point]] | None = None,
         out: Sequence[Box] = (),
+        among: frozenset[str] | None = None,
     ) -> MapFacts:
         """Waypoints and path facts with ``items`` where they are; ``robot`` = (name, point) adds
         the robot's pose under that name (the waypoint it last reached, which may be gone from the
         map: the grasp pose of the item now in its hand) when no waypoint is there already.
         ``sticky`` holds grasp poses chosen before: kept while still usable, so a plan's waypoints
         survive a replan. ``out``: the open drawers' boxes out of their carcasses, furniture for
-        the base as long as they are out (never an item to take away)."""
+        the base as long as they are out (never an item to take away). ``among``: the pairs of
+        those waypoints only (and the robot's with them; the entrance always: a tight deposit is
+        one the entrance does not reach), each as the whole map has it; every waypoint is there."""
+        facts = self.poses(items, robot, sticky, avoid, out)
+        floor = [p.box() for p in items if p.on_floor] + list(out)
+        nav, static = self.grid(floor), self.grid(out)
+        self._add_paths(facts, items, nav, static, self._floor((tuple(items), self._out)), among)
+        return facts
+
+    def poses(
+        self,
+        items: Sequence[Placed],
+        robot: tuple[str, Point] | None = None,
+        sticky: dict[str, Point] | None = None,
+        avoid: dict[str, list[Point]] | None = None,
+        out: Sequence[Box] = (),
+    ) -> MapFacts:
+        """``facts`` without the pairs: the waypoints (the robot's too) and each item's grasp pose,
+        with its adjustment or the items its reach waits for."""
         self._out = tuple(out)
         floor = [p.box() for p in items if p.on_floor]
         base_floor = floor + list(out)
@@ -152,7 +186,7 @@ class RoomMap:
         if chosen is None:
             # the grasp poses depend on the robot only through the cells it reaches: its component
             # (listed only if an item's pose is chosen anew: most are kept, ``_poses``)
-            reachable = _Lazy(lambda: set(nav.free_cells(reachable_from=self._origin)))
+            reachable = _Reach(nav, self._origin)
             chosen = MapFacts()
             # the floor's boxes as arrays: which are near an item, for every item at once (a loop
             # over every pair was a seventh of a turn at 96 objects)
@@ -168,13 +202,9 @@ class RoomMap:
                 # (for one not reached now) the room around it: kept by those, so a new floor
                 # chooses again only near what changed (choosing for every item of the room,
                 # each new floor, was a third of a 96-object turn)
-                others = taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6)
-                if others:  # those within 0.1 m of a ring cell: the only ones that rule one out
-                    ring = self._ring_array(p.xy)
-                    others = [
-                        q for q, ok in zip(others, _apart(ring, others, 0.1, axis=0), strict=True) if not ok
-                    ]
-                others = tuple(sorted(others))
+                # the poses within 0.1 m of a ring cell: the only ones that rule one out
+                near_poses = taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6)
+                others = tuple(sorted(q for q in near_poses if self._rules_out(p.xy, q)))
                 reach = nav.reaches(self._ring_array(p.xy), self._origin).tobytes()
                 key_p = (p.name, p.xy, near, self._out, previous, tuple(bad), others, reach)
                 one = self._poses.get(key_p)
@@ -212,7 +242,6 @@ class RoomMap:
             facts.points[robot[0]], facts.kind[robot[0]] = robot[1], "robot"
         elif robot is not None and not any(math.dist(robot[1], q) < 0.03 for q in facts.points.values()):
             facts.points["wp-robot"], facts.kind["wp-robot"] = robot[1], "robot"
-        self._add_paths(facts, items, nav, static, floor_memo)
         return facts
 
     def _floor(self, key: tuple) -> _Floor:
@@ -344,6 +373,17 @@ class RoomMap:
             )
         return room, wider, nav.reaches(self._windows[p.xy], self._origin).tobytes()
 
+    def _rules_out(self, at: Point, q: Point) -> bool:
+        """Whether pose ``q`` lies within 0.1 m of a cell of ``at``'s ring (``_apart``'s verdict),
+        kept: both are cell centres, met again on every floor."""
+        key = (at, q)
+        hit = self._ruled.get(key)
+        if hit is None:
+            if len(self._ruled) > 65_536:
+                self._ruled.clear()
+            hit = self._ruled[key] = not bool(_apart(self._ring_array(at), [q], 0.1, axis=0)[0])
+        return hit
+
     def _ring_array(self, at: Point) -> np.ndarray:
         hit = self._ring_arrays.get(at)
         if hit is None:
@@ -376,10 +416,19 @@ class RoomMap:
         key = (p.xy, b)
         hit = self._pairs.get(key)
         if hit is None:
-            cross = tuple(k for k, c in enumerate(ring) if _crosses(c, p.xy, b))
+            xy = self._ring_array(p.xy)
+            # _crosses' own first test, for the whole ring at once: segments apart from b's
+            # footprint along x or y cannot cross it
+            hx, hy = b.sx / 2, b.sy / 2
+            apart = (
+                (np.maximum(xy[:, 0], p.x) < b.cx - hx)
+                | (np.minimum(xy[:, 0], p.x) > b.cx + hx)
+                | (np.maximum(xy[:, 1], p.y) < b.cy - hy)
+                | (np.minimum(xy[:, 1], p.y) > b.cy + hy)
+            )
+            cross = tuple(int(k) for k in np.nonzero(~apart)[0] if _crosses(ring[k], p.xy, b))
             # the cells b stands on: numpy decides the clear cases, Box.clearance those within
             # 1e-9 m of the radius (its verdict is the rule, as in the grids' masks)
-            xy = self._ring_array(p.xy)
             d = np.hypot(
                 np.maximum(np.abs(xy[:, 0] - b.cx) - b.sx / 2, 0.0),
                 np.maximum(np.abs(xy[:, 1] - b.cy) - b.sy / 2, 0.0),
@@ -393,13 +442,18 @@ class RoomMap:
             hit = self._pairs[key] = (cross, under)
         return hit
 
-    def _add_paths(self, facts: MapFacts, items: Sequence[Placed], nav, static, floor_memo: _Floor) -> None:
-        """The path, blocked, blocks and adjustment facts of every pair of ``facts.points``. The
-        pairs of the fixed waypoints (all but the robot's own) depend on the floor, their points
-        and the part of the room the robot is in, not on where in it the robot stands: they are
-        worked out once per floor and kept (``_Floor.paths``); after a move, only the robot's
-        pairs are new (a turn's cost then grows with the waypoints, not with their pairs)."""
+    def _add_paths(
+        self, facts: MapFacts, items: Sequence[Placed], nav, static, floor_memo: _Floor, among=None
+    ) -> None:
+        """The path, blocked, blocks and adjustment facts of every pair of ``facts.points`` (of
+        ``among``, and the robot's, where given). The pairs of the fixed waypoints (all but the
+        robot's own) depend on the floor, their points and the part of the room the robot is
+        in, not on where in it the robot stands: they are worked out once per floor and kept
+        (``_Floor.paths``); after a move, only the robot's pairs are new (a turn's cost then
+        grows with the waypoints, not with their pairs)."""
         names = sorted(facts.points)
+        if among is not None:
+            names = [n for n in names if n in among or n == ENTRANCE or facts.kind[n] == "robot"]
         robots = [n for n in names if facts.kind[n] == "robot"]
         fixed = [n for n in names if facts.kind[n] != "robot"]
         component = nav.component(*self._origin)
@@ -409,16 +463,17 @@ class RoomMap:
             tuple((n, facts.points[n], facts.kind[n]) for n in fixed),
             tuple(facts.reach_blockers.items()),
         )
-        part = floor_memo.paths.get(key)
+        kept = floor_memo.paths if among is None else floor_memo.focused
+        part = kept.get(key)
         if part is None:
             part = MapFacts(
                 points={n: facts.points[n] for n in fixed}, kind={n: facts.kind[n] for n in fixed}
             )
             part.reach_blockers = dict(facts.reach_blockers)
             self._fixed_paths(part, items, nav, static, floor_memo)
-            if len(floor_memo.paths) >= PATHS_KEPT:
-                floor_memo.paths.clear()
-            floor_memo.paths[key] = part
+            if len(kept) >= PATHS_KEPT:
+                kept.clear()
+            kept[key] = part
         bases = [n for n in part.points if n not in facts.points]  # the deposits' adjustment poses
         for n in bases:
             facts.points[n], facts.kind[n] = part.points[n], part.kind[n]
@@ -636,16 +691,15 @@ class RoomMap:
 _LATER = object()  # in RoomMap._poses: not reached now, the wider key decides
 
 
-class _Lazy:
-    """A set made when first asked whether it holds something."""
+class _Reach:
+    """The cell centres the robot reaches from ``origin`` (``free_cells(reachable_from=origin)``
+    as a set), asked one at a time: a cell's component, not the component's list."""
 
-    def __init__(self, make) -> None:
-        self._make, self._set = make, None
+    def __init__(self, nav: OccupancyGrid, origin: Point) -> None:
+        self._nav, self._label = nav, nav.component(*origin)
 
-    def __contains__(self, x) -> bool:
-        if self._set is None:
-            self._set = self._make()
-        return x in self._set
+    def __contains__(self, c: Point) -> bool:
+        return self._label != 0 and self._nav.component(*c) == self._label
 
 
 class _Taken:

@@ -88,9 +88,12 @@ def robot_waypoint(facts: MapFacts, belief: Belief) -> str:
     return min(facts.points, key=lambda n: (_dist(facts.points[n], belief.robot), n))
 
 
-def removal_choices(facts: MapFacts, belief: Belief, robot_wp: str) -> dict[str, str]:
-    """Algorithm 1 for each item that could be moved: p_r is where the robot stands when it has
-    the item in hand (its grasp waypoint; the robot's waypoint for the item held now)."""
+def removal_choices(
+    facts: MapFacts, belief: Belief, robot_wp: str, only: frozenset[str] | None = None
+) -> dict[str, str]:
+    """Algorithm 1 for each item that could be moved (of ``only``, where given): p_r is where
+    the robot stands when it has the item in hand (its grasp waypoint; the robot's waypoint for
+    the item held now)."""
     waypoints = [
         Waypoint(
             n,
@@ -104,6 +107,8 @@ def removal_choices(facts: MapFacts, belief: Belief, robot_wp: str) -> dict[str,
     origins = dict(facts.grasp)
     if belief.holding is not None:
         origins[belief.holding] = robot_wp
+    if only is not None:
+        origins = {item: w for item, w in origins.items() if item in only}
     out = {}
     for item, origin in sorted(origins.items()):
         w = removal_waypoint(waypoints, facts.points[origin], lambda a, b, o=origin: _length(facts, o, b))
@@ -192,13 +197,19 @@ def goal_atoms(belief: Belief, goal: Sequence[str], domain: m.Domain | None) -> 
 
 
 def belief_state(
-    belief: Belief, facts: MapFacts, virtual: Sequence[tuple[str, str]], domain: m.Domain | None = None
+    belief: Belief,
+    facts: MapFacts,
+    virtual: Sequence[tuple[str, str]],
+    domain: m.Domain | None = None,
+    only: frozenset[str] | None = None,
 ) -> Overlay:
     """``write(...).state`` without the model: what the monitor simulates the plan from after
     every action (at 96 objects the model's hundred thousand atoms were most of a turn).
     The map's atoms come as a set kept with the map (a state has no order to sort them into),
-    the base of an `Overlay` whose small part is the rest of the belief."""
-    atoms = _contents(belief, facts, virtual, None, domain, with_map=False)[0]
+    the base of an `Overlay` whose small part is the rest of the belief. ``only``: the items
+    whose removal waypoints are written (a plan's own, with ``facts`` among its waypoints:
+    ``tidyplan.belief.focus``); all by default."""
+    atoms = _contents(belief, facts, virtual, None, domain, with_map=False, only=only)[0]
     base, added, removed = _map_layers(facts)
     if domain is not None and not all(domain.predicate(p) is not None for p in _MAP_PREDICATES):
         base = Atoms({k: v for k, v in base.parts.items() if domain.predicate(k) is not None})
@@ -208,11 +219,12 @@ def belief_state(
     return Overlay(base, [*added, *atoms], removed)
 
 
-def _contents(belief, facts, virtual, keep, domain, with_map=True):
+def _contents(belief, facts, virtual, keep, domain, with_map=True, only=None):
     """(atoms, values, objects, seen, robot_wp, removal) of the problem ``write`` builds;
-    ``with_map`` False leaves out the map's atoms and distances (``_map_part``)."""
+    ``with_map`` False leaves out the map's atoms and distances (``_map_part``); ``only``: the
+    items whose removal waypoints are worked out (all by default)."""
     robot_wp = robot_waypoint(facts, belief)
-    removal = removal_choices(facts, belief, robot_wp)
+    removal = removal_choices(facts, belief, robot_wp, only)
     seen = [k for k in belief.untidied() if keep is None or k.name in keep]
     p_near = belief.exploration.p_item_near(facts) if virtual else {}
     deposits = belief.scenario.deposits

@@ -90,7 +90,10 @@ class Belief:
         self.arrived: tuple[int, Point] = (0, self.robot)  # (looks, where) when a drive last ended
         self._forgotten: dict[str, Known] = {}  # seen again near where it was: same name
         self._occluders = [Box3.from_furniture(f) for f in scenario.furniture]
+        # the last answers of facts (whole, among some waypoints) and poses, by what they depend on
         self._facts: tuple[tuple, MapFacts] | None = None
+        self._focused: tuple[tuple, MapFacts] | None = None
+        self._poses: tuple[tuple, MapFacts] | None = None
         # the space seen and the viewpoints to look from; it adds the map's viewpoints now
         self.exploration = Exploration(self.scenario, room, self._occluders)
 
@@ -110,7 +113,7 @@ class Belief:
 
     def explorable(self) -> bool:
         """Whether some viewpoint nobody has looked from would reveal unseen space."""
-        return bool(self.exploration.p_item_near(self.facts()))
+        return bool(self.exploration.p_item_near(self.poses()))
 
     def untidied(self) -> list[Known]:
         return sorted((k for k in self.items.values() if k.state != "tidied"), key=lambda k: k.name)
@@ -118,19 +121,17 @@ class Belief:
     def placed(self) -> list[Placed]:
         return [k.placed() for k in self.untidied() if k.state == "placed"]
 
-    def facts(self) -> MapFacts:
+    def facts(self, among: frozenset[str] | None = None) -> MapFacts:
         """The map's facts for the belief as it is; the monitor asks several times a step, so the
-        last answer is kept while nothing it depends on changes (callers must not edit it)."""
-        if self._facts is not None and self._facts[0] == self._facts_key():
-            return self._facts[1]
-        avoid = {
-            k.name: [pose for place, pose in self.failed_poses if math.dist(place, (k.x, k.y)) <= SAME_ITEM]
-            for k in self.untidied()
-        }
-        robot = (self.robot_wp, self.robot)
-        facts = self.room.facts(self.placed(), robot, self.sticky, avoid, self.drawers_out())
-        for item, wp in facts.grasp.items():
-            self.sticky[item] = facts.points[wp]
+        last answer is kept while nothing it depends on changes (callers must not edit it).
+        ``among``: the pairs of those waypoints only (and the robot's with them; every waypoint
+        is there, ``RoomMap.facts``): what the monitor checks a plan against."""
+        key = self._facts_key()
+        kept = self._facts if among is None else self._focused
+        if kept is not None and kept[0] == (key, among):
+            return kept[1]
+        facts = self.room.facts(*self._room_args(), among=among)
+        self._stick(facts)
         if self.blocked_moves:
             # a move found this way blocked: the grid is wrong here (looked up by the few blocked
             # moves' points, not by every pair of waypoints)
@@ -143,8 +144,37 @@ class Belief:
                         facts.path.pop((a, b), None)
                         facts.adjust.pop((a, b), None)
                         facts.dropped.add((a, b))
-        self._facts = (self._facts_key(), facts)
+        if among is None:
+            self._facts = ((self._facts_key(), among), facts)
+        else:
+            self._focused = ((self._facts_key(), among), facts)
         return facts
+
+    def poses(self) -> MapFacts:
+        """``facts`` without any pair: the waypoints, each item's grasp pose and its adjustment,
+        what the monitor asks of the map after every action (where an item is grasped from)."""
+        key = self._facts_key()
+        if self._poses is not None and self._poses[0] == key:
+            return self._poses[1]
+        poses = self.room.poses(*self._room_args())
+        self._stick(poses)
+        self._poses = (self._facts_key(), poses)
+        return poses
+
+    def _room_args(self) -> tuple:
+        avoid = {
+            k.name: [pose for place, pose in self.failed_poses if math.dist(place, (k.x, k.y)) <= SAME_ITEM]
+            for k in self.untidied()
+        }
+        return self.placed(), (self.robot_wp, self.robot), self.sticky, avoid, self.drawers_out()
+
+    def _stick(self, facts: MapFacts) -> None:
+        """Keep the grasp poses just chosen for the next answers (a plan's waypoints survive)."""
+        for item, wp in facts.grasp.items():
+            self.sticky[item] = facts.points[wp]
+
+    def _forget_facts(self) -> None:
+        self._facts = self._focused = self._poses = None
 
     def _facts_key(self) -> tuple:
         return (
@@ -508,7 +538,7 @@ class Belief:
         added = self.exploration.new_round()
         if added is None:
             return None
-        self._facts = None  # the map has new viewpoints
+        self._forget_facts()  # the map has new viewpoints
         return added + self._viewpoints_at_forgotten()
 
     def _viewpoints_at_forgotten(self) -> list[str]:
@@ -556,7 +586,7 @@ class Belief:
             taken.append(options[0])
             names.append(self.exploration.add_viewpoint(options[0], forgotten=k.name))
         if names:
-            self._facts = None
+            self._forget_facts()
         return names
 
 

@@ -127,7 +127,7 @@ class Navigate(Unit):
         for d in belief.scenario.deposits:
             if deposit_waypoint(d.name) == self.waypoint:
                 return d.x, d.y
-        facts = belief.facts()
+        facts = belief.poses()
         for item, w in facts.grasp.items():
             if w == self.waypoint and item in belief.items:
                 return belief.items[item].x, belief.items[item].y

@@ -33,6 +33,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from sim.scenario.model import ORIENTATION
+from tidyplan.belief.focus import focus, focus_safe
 from tidyplan.belief.problem import Snapshot, belief_state, robot_waypoint, write
 from tidyplan.belief.state import Belief
 from tidyplan.belief.vocabulary import VOCABULARY
@@ -135,6 +136,9 @@ class Mission:
         # the belief keeps them by the effects of the actions executed
         changed = changed_predicates(self.domain)
         self._remembered = {p.name for p in self.domain.predicates if p.name in changed} - set(VOCABULARY)
+        # the plan is checked against the map among its own waypoints where the domain's steps
+        # ask about no others (tidyplan.belief.focus); against the whole map otherwise
+        self._focused = focus_safe(self.domain)
 
     # ------------------------------------------------------------------ the loop
     def run(self) -> Outcome:
@@ -425,8 +429,14 @@ class Mission:
     def _belief_state(self):
         """The current belief as a planning state, in the names of the plan being executed."""
         virtual = [(v, c) for v, c in self.snapshot.virtual if v not in self.bound]
-        # the problem's init as a state: no model built, nothing written or parsed
-        state = belief_state(self.belief, self.belief.facts(), virtual, self.domain)
+        # the problem's init as a state: no model built, nothing written or parsed; the map's
+        # pairs among the plan's waypoints, the removal waypoints of its items (and the held one)
+        among = only = None
+        if self._focused:
+            names = {a for s in self.steps + self.pending for a in s.args}
+            among = focus(self.belief, self.belief.poses(), names)
+            only = frozenset(names | ({self.belief.holding} if self.belief.holding else set()))
+        state = belief_state(self.belief, self.belief.facts(among), virtual, self.domain, only)
         # Virtual objects the plan bound are seen items now; pending assumptions stand for
         # what the plan took for granted and the belief does not contradict yet.
         for a in self.pending:

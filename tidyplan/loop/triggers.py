@@ -31,7 +31,7 @@ def check_assumptions(pending, belief) -> list[tuple[object, bool, str]]:
     order, up to the first contradicted (cause (iii)): it holds when o (bound) is grasped from w;
     it is contradicted when o is bound elsewhere, or when the robot has looked from w without
     finding o. The others wait."""
-    facts = belief.facts()
+    facts = belief.poses()  # where each item is grasped from: no pair of the map needed
     out = []
     for a in pending:
         item, w = a.args
