@@ -136,6 +136,13 @@ class OccupancyGrid:
             self._reach[label] = [self.xy(*c) for c in self._component_of(start)]
         return list(self._reach[label])
 
+    def reaches_cells(self, flat: np.ndarray, reachable_from: Point) -> np.ndarray:
+        """``reaches`` for cells given by flat index (i * columns + j), all in the grid."""
+        start = self.cell(*reachable_from)
+        if not self._free_cell(start):
+            return np.zeros(len(flat), dtype=bool)
+        return self._labels.ravel()[flat] == self._labels[start]
+
     def free_at(self, points: np.ndarray) -> np.ndarray:
         """``free`` for each of ``points`` ((n, 2)), at once."""
         x0, _x1, y0, _y1 = self.bounds

@@ -81,6 +81,8 @@ class RoomMap:
         self._windows: dict[Point, np.ndarray] = {}  # _beyond_reach's cells around an item
         self._ring_arrays: dict[Point, np.ndarray] = {}  # _ring's cells as an (n, 2) array
         self._ruled: dict[tuple[Point, Point], bool] = {}  # _rules_out's answers
+        self._ring_indexes: dict[Point, dict[Point, int]] = {}  # _ring_index's
+        self._ring_flat: dict[Point, np.ndarray] = {}  # _ring_cells'
         static = self.grid(())
         self.entrance = static.nearest_free(*scenario.entrance)
         self.fixed: dict[str, Point] = {ENTRANCE: self.entrance}
@@ -192,11 +194,15 @@ class RoomMap:
             # over every pair was a seventh of a turn at 96 objects)
             boxes = np.array([(b.cx, b.cy, b.sx / 2, b.sy / 2) for b in floor], dtype=float).reshape(-1, 4)
             taken = _Taken()
+            # the boxes as plain tuples, for the keys below (C's hashing, not a dataclass's)
+            box_keys = [_box_key(b) for b in floor]
             for p in sorted(items, key=lambda p: p.name):
                 bad, previous = (avoid or {}).get(p.name, []), (sticky or {}).get(p.name)
                 # the floor items that can cross the reach from a ring cell, stand on one, or
                 # take one from the bare footprint: within the reach and the base's radius
-                near = tuple(floor[i] for i in _near_boxes(boxes, p.xy, GRASP_MAX + self.bare_radius + 0.03))
+                within = _near_boxes(boxes, p.xy, GRASP_MAX + self.bare_radius + 0.03)
+                near = tuple(floor[i] for i in within)
+                near_key = tuple(box_keys[i] for i in within)
                 # The pose depends on the item, the floor near it, the poses taken near it, the
                 # pose kept and those avoided, which of its ring's cells the robot reaches, and
                 # (for one not reached now) the room around it: kept by those, so a new floor
@@ -205,8 +211,8 @@ class RoomMap:
                 # the poses within 0.1 m of a ring cell: the only ones that rule one out
                 near_poses = taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6)
                 others = tuple(sorted(q for q in near_poses if self._rules_out(p.xy, q)))
-                reach = nav.reaches(self._ring_array(p.xy), self._origin).tobytes()
-                key_p = (p.name, p.xy, near, self._out, previous, tuple(bad), others, reach)
+                reach = nav.reaches_cells(self._ring_cells(p.xy), self._origin).tobytes()
+                key_p = (p.name, p.xy, near_key, self._out, previous, tuple(bad), others, reach)
                 one = self._poses.get(key_p)
                 if one is _LATER:  # not reached now: what the tiers beyond look at, too
                     key_p = (*key_p, *self._beyond_reach(p, nav, static, boxes, floor))
@@ -261,8 +267,11 @@ class RoomMap:
         else one it reaches once floor items are cleared (blocked), else one a pose adjustment
         reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier.
         ``taken``: the grasp and adjustment poses chosen so far (``_Taken``), else read from
-        ``facts``. Returns the tier: 1 now, 2 blocked, 3 tight, 0 none (unreachable)."""
-        crossing = dict(self._crossing(p, tuple(floor), bare))
+        ``facts``. Returns the tier: 1 now, 2 blocked, 3 tight, 0 none (unreachable).
+        The ring is worked on as arrays of its cells (by index); a cell's blockers are kept only
+        for the few that have any."""
+        ring, xy = self._ring(p.xy), self._ring_array(p.xy)
+        blockers = self._crossing(p, tuple(floor), bare)
         if taken is None:
             taken = _Taken()
             for n, q in facts.points.items():
@@ -271,42 +280,52 @@ class RoomMap:
         # poses taken by other waypoints (only those within reach of a ring cell can be within
         # 0.1 m of one), and those from which the robot failed to find p before
         others = taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6)
-        keep = _apart(list(crossing), others, 0.1) & _apart(list(crossing), list(avoid), 0.15)
-        crossing = {c: x for (c, x), ok in zip(crossing.items(), keep, strict=True) if ok}
-        candidates = [c for c, x in crossing.items() if not x]
-        rank = lambda c: (len(crossing[c]), abs(math.dist(c, p.xy) - GRASP_BEST), c)  # noqa: E731
+        kept = np.nonzero(_apart(xy, others, 0.1) & _apart(xy, list(avoid), 0.15))[0].tolist()
+        candidates = [k for k in kept if k not in blockers]
+
+        def rank(k: int) -> tuple:
+            return len(blockers.get(k, ())), abs(math.dist(ring[k], p.xy) - GRASP_BEST), ring[k]
+
         name = grasp_waypoint(p.name)
-        now = [c for c in candidates if c in reachable]
-        if previous in now:
-            now = [previous]
+        reached = reachable.mask(xy) if isinstance(reachable, _Reach) else None
+        if reached is None:
+            now = [k for k in candidates if ring[k] in reachable]
+        else:
+            now = [k for k in candidates if reached[k]]
+        before = self._ring_index(p.xy).get(previous) if previous is not None else None
+        if before is not None and before in now:
+            now = [before]
         if now:
-            facts.points[name], facts.kind[name] = min(now, key=rank), "grasp"
+            facts.points[name], facts.kind[name] = ring[min(now, key=rank)], "grasp"
             facts.grasp[p.name] = name
             return 1
         # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
         # its paths would be blocked by the item to be taken from there (no plan could start)
         own = self.grid([p.box(), *self._out]) if p.on_floor else static
-        room = own.component(*(self._origin if own.free(*self._origin) else self.entrance))
-        later = [c for c in crossing if room and own.component(*c) == room]
-        if previous in later:
-            later = [previous]
+        start = self._origin if own.free(*self._origin) else self.entrance
+        in_room = own.reaches(xy, start)
+        later = [k for k in kept if in_room[k]]
+        if before is not None and before in later:
+            later = [before]
         if later:
-            c = min(later, key=rank)
-            facts.points[name], facts.kind[name] = c, "grasp"
+            k = min(later, key=rank)
+            facts.points[name], facts.kind[name] = ring[k], "grasp"
             facts.grasp[p.name] = name
-            if crossing[c]:
-                facts.reach_blockers[name] = crossing[c]
+            if blockers.get(k):
+                facts.reach_blockers[name] = blockers[k]
             return 2
         tight = []
-        for c in candidates:
-            if not bare.free(*c):
+        free = bare.free_at(xy)
+        for k in candidates:
+            if not free[k]:
                 continue
+            c = ring[k]
             # a pose adjustment is a short straight move: never through furniture or a wall
             # (the reachable cells near c, from the grid's window around it, not the room's)
             near = nav.free_cells_near(c, ADJUST_MAX, reachable_from=self._origin)
             base = [q for q in near if math.dist(q, c) <= ADJUST_MAX and straight(bare, q, c)]
             if base:
-                tight.append((rank(c), c, min(base, key=lambda q: (math.dist(q, c), q))))
+                tight.append((rank(k), c, min(base, key=lambda q: (math.dist(q, c), q))))
         if not tight:
             facts.unreachable.append(p.name)
             return 0
@@ -318,12 +337,13 @@ class RoomMap:
         facts.adjust[(name + "-base", name)] = facts.adjust[(name, name + "-base")] = d
         return 3
 
-    def _crossing(self, p: Placed, floor: tuple[Box, ...], bare: OccupancyGrid) -> tuple:
-        """Each cell of ``p``'s ring with the floor items a grasp from there must wait for: those
-        its reach to ``p`` passes over, and those standing on it where the bare footprint does
-        not fit. It depends on ``p``, the floor items near it (``floor``) and the open drawers
-        only, so it is kept by them: a new floor works out again only the rings near what
-        changed (every ring of the room, each new floor, was a third of a 96-object turn)."""
+    def _crossing(self, p: Placed, floor: tuple[Box, ...], bare: OccupancyGrid) -> dict[int, tuple[str, ...]]:
+        """The cells of ``p``'s ring (by index) a grasp from which must wait for floor items,
+        with those items: those its reach to ``p`` passes over, and those standing on it where
+        the bare footprint does not fit (cells with none are left out). It depends on ``p``,
+        the floor items near it (``floor``) and the open drawers only, so it is kept by them: a
+        new floor works out again only the rings near what changed (every ring of the room,
+        each new floor, was a third of a 96-object turn)."""
         key = (p.name, p.xy, floor, self._out)
         hit = self._crossings.get(key)
         if hit is not None:
@@ -339,16 +359,20 @@ class RoomMap:
         # remembered per pair, so a floor with one item more or less costs that item's pairs
         # only (per whole neighbourhood, every neighbour of a taken item computed its ring again)
         ring = self._ring(p.xy)
-        crosses: list[list[str]] = [[] for _ in ring]
-        under: list[list[str]] = [[] for _ in ring]
+        free = bare.free_at(self._ring_array(p.xy))
+        crosses: dict[int, list[str]] = {}
+        under: dict[int, list[str]] = {}
         for b in others_floor:
             cross_at, under_at = self._pair(p, b, ring)
             for k in cross_at:
-                crosses[k].append(b.name)
+                crosses.setdefault(k, []).append(b.name)
             for k in under_at:
-                under[k].append(b.name)
-        free = bare.free_at(self._ring_array(p.xy))
-        hit = tuple((c, tuple(crosses[k]) + (() if free[k] else tuple(under[k]))) for k, c in enumerate(ring))
+                if not free[k]:
+                    under.setdefault(k, []).append(b.name)
+        hit = {
+            k: tuple(crosses.get(k, ())) + tuple(under.get(k, ()))
+            for k in sorted(crosses.keys() | under.keys())
+        }
         if len(self._crossings) > 4096:  # a mission's items, where they were seen, their floors
             self._crossings.clear()
         self._crossings[key] = hit
@@ -361,7 +385,7 @@ class RoomMap:
         own = self.grid([p.box(), *self._out]) if p.on_floor else static
         room = own.component(*(self._origin if own.free(*self._origin) else self.entrance))
         r = GRASP_MAX + ADJUST_MAX + 0.1
-        wider = tuple(floor[i] for i in _near_boxes(boxes, p.xy, r + self.bare_radius + 0.1))
+        wider = tuple(_box_key(floor[i]) for i in _near_boxes(boxes, p.xy, r + self.bare_radius + 0.1))
         if p.xy not in self._windows:
             if len(self._windows) > 4096:
                 self._windows.clear()
@@ -372,6 +396,26 @@ class RoomMap:
                 [static_cells.xy(i, j) for i in range(i0, i1 + 1) for j in range(j0, j1 + 1)], dtype=float
             )
         return room, wider, nav.reaches(self._windows[p.xy], self._origin).tobytes()
+
+    def _ring_cells(self, at: Point) -> np.ndarray:
+        """The ring's cells as flat indices of the room's grids (all share bounds and cells)."""
+        hit = self._ring_flat.get(at)
+        if hit is None:
+            if len(self._ring_flat) > 4096:
+                self._ring_flat.clear()
+            static = self.grid(())
+            cells = [static.cell(*c) for c in self._ring(at)]
+            hit = self._ring_flat[at] = np.array([i * static.shape[1] + j for i, j in cells], dtype=np.int64)
+        return hit
+
+    def _ring_index(self, at: Point) -> dict[Point, int]:
+        """Each ring cell's index in ``_ring(at)``."""
+        hit = self._ring_indexes.get(at)
+        if hit is None:
+            if len(self._ring_indexes) > 4096:
+                self._ring_indexes.clear()
+            hit = self._ring_indexes[at] = {c: k for k, c in enumerate(self._ring(at))}
+        return hit
 
     def _rules_out(self, at: Point, q: Point) -> bool:
         """Whether pose ``q`` lies within 0.1 m of a cell of ``at``'s ring (``_apart``'s verdict),
@@ -696,10 +740,16 @@ class _Reach:
     as a set), asked one at a time: a cell's component, not the component's list."""
 
     def __init__(self, nav: OccupancyGrid, origin: Point) -> None:
-        self._nav, self._label = nav, nav.component(*origin)
+        self._nav, self._origin, self._label = nav, origin, nav.component(*origin)
 
     def __contains__(self, c: Point) -> bool:
         return self._label != 0 and self._nav.component(*c) == self._label
+
+    def mask(self, points: np.ndarray) -> np.ndarray:
+        """``__contains__`` for each of ``points`` ((n, 2)) at once."""
+        if self._label == 0:
+            return np.zeros(len(points), dtype=bool)
+        return self._nav.reaches(points, self._origin)
 
 
 class _Taken:
