@@ -237,6 +237,12 @@ class RoomMap:
                 for q in one.points.values():
                     taken.add(q)
             floor_memo.grasp[key] = chosen
+            # The belief keeps the poses just chosen (its sticky ones) and asks again: with them
+            # kept, each item's choice is the same (a pose kept is taken where still usable, and
+            # it is usable: it was just chosen), so the answer is stored for that question too
+            kept = dict(sticky or {})
+            kept.update((item, chosen.points[wp]) for item, wp in chosen.grasp.items())
+            floor_memo.grasp[(*key[:2], tuple((p.name, kept.get(p.name)) for p in items), key[3])] = chosen
         facts.points.update(chosen.points)
         facts.kind.update(chosen.kind)
         facts.grasp.update(chosen.grasp)
@@ -470,7 +476,7 @@ class RoomMap:
                 | (np.maximum(xy[:, 1], p.y) < b.cy - hy)
                 | (np.minimum(xy[:, 1], p.y) > b.cy + hy)
             )
-            cross = tuple(int(k) for k in np.nonzero(~apart)[0] if _crosses(ring[k], p.xy, b))
+            cross = _crossing_cells(ring, np.nonzero(~apart)[0], p.xy, b)
             # the cells b stands on: numpy decides the clear cases, Box.clearance those within
             # 1e-9 m of the radius (its verdict is the rule, as in the grids' masks)
             d = np.hypot(
@@ -802,6 +808,26 @@ def straight(grid: OccupancyGrid, a: Point, b: Point, step: float = 0.05) -> boo
     """Whether the straight segment a-b runs over free cells only (sampled every ``step``)."""
     n = max(1, math.ceil(math.dist(a, b) / step))
     return all(grid.free(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) for k in range(n + 1))
+
+
+def _crossing_cells(ring: list[Point], cells: np.ndarray, at: Point, box: Box) -> tuple[int, ...]:
+    """Of ``cells`` (indices into ``ring``), those whose segment to ``at`` passes over the box:
+    ``_crosses``' samples for all of them at once (the same sums in the same order, so the
+    same points; a sample is on the footprint when neither of its distances along x and y
+    from the box's sides is positive, which is ``Box.clearance(...) == 0``)."""
+    if not len(cells):
+        return ()
+    a = np.array([ring[k] for k in cells], dtype=float)
+    n = np.array([max(2, int(math.dist(ring[k], at) / 0.02)) for k in cells], dtype=np.int64)
+    counts = n + 1
+    starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    j = (np.arange(int(counts.sum())) - np.repeat(starts, counts)).astype(float)
+    ax, ay, nn = np.repeat(a[:, 0], counts), np.repeat(a[:, 1], counts), np.repeat(n, counts).astype(float)
+    x = ax + (at[0] - ax) * j / nn
+    y = ay + (at[1] - ay) * j / nn
+    on = (np.abs(x - box.cx) - box.sx / 2 <= 0.0) & (np.abs(y - box.cy) - box.sy / 2 <= 0.0)
+    hit = np.logical_or.reduceat(on, starts)
+    return tuple(int(k) for k, h in zip(cells, hit, strict=True) if h)
 
 
 def _crosses(a: Point, b: Point, box: Box) -> bool:
