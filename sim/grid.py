@@ -14,20 +14,21 @@ Invariants, relied on by callers that compare runs byte for byte (bench/tidygen.
 - every choice among equals (nearest cell) breaks ties by cell index, so results are a
   function of the inputs alone.
 
-Imports: none (the bottom of sim).
+Imports: sim.box (the footprints it inflates).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
 
 import networkx as nx
 import numpy as np
 from scipy.ndimage import label as _label_components
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
+
+from sim.box import Box
 
 CELL = 0.05  # m: 5 cm resolves the ~0.2 m gaps between WRS items and keeps the graph small
 # The robot as a disc: half the HSR's footprint of about 0.43 m across (docs/sources.md; a
@@ -36,27 +37,6 @@ ROBOT_RADIUS = 0.22
 
 Point = tuple[float, float]
 Cell = tuple[int, int]
-
-
-@dataclass(frozen=True, slots=True)
-class Box:
-    """An axis-aligned footprint: centre (cx, cy) and size (sx, sy) along x and y, in metres.
-
-    Height is left out on purpose: the grid is the floor plan of the base, and anything the
-    base cannot pass under is an obstacle whatever its height. ``name`` is for people only.
-    """
-
-    cx: float
-    cy: float
-    sx: float
-    sy: float
-    name: str = ""
-
-    def clearance(self, x: float, y: float) -> float:
-        """Distance from (x, y) to the footprint (0 inside)."""
-        dx = max(abs(x - self.cx) - self.sx / 2, 0.0)
-        dy = max(abs(y - self.cy) - self.sy / 2, 0.0)
-        return math.hypot(dx, dy)
 
 
 class OccupancyGrid:
@@ -277,30 +257,12 @@ class OccupancyGrid:
             return False
         return self._labels[ca] == self._labels[cb]
 
-    def connected_without(self, box: Box, pairs: Sequence[tuple[Point, Point]]) -> list[bool]:
-        """For each pair (a, b): would a path join them with ``box``, one of this grid's obstacles,
-        taken away? The same answers as ``connected`` on a new grid without it: the components of
-        this grid's free cells and the cells only ``box`` covers (a new grid per floor item cost
-        seconds a replan in a two-room floor)."""
-        return self.joined(self.components_without(box), pairs)
-
-    def components_without(self, box: Box) -> np.ndarray:
-        """Each cell's component of free cells with ``box`` taken away (0: not free), for
-        ``joined``: a caller asking about many pairs, or again, labels once per box."""
-        free = self.mask.copy()
-        window = self._window(box)
-        if window is not None:
-            (i0, i1, j0, j1), x, y = window
-            # only the obstacles whose own windows meet this one can cover a cell of it
-            others = [b for b in self.obstacles if b != box and _meet(self._span(b), (i0, i1, j0, j1))]
-            free[i0:i1, j0:j1] |= self._clear_of(others, x, y)
-        return _components(free)
-
     def joins_without(
         self, box: Box, pairs: tuple[np.ndarray, np.ndarray, np.ndarray], memo: dict | None = None
     ) -> np.ndarray:
-        """``joined(components_without(box), pairs)`` for ``pair_cells`` pairs, as a bool array,
-        from the cells around ``box`` alone: taking it away frees only cells of its window, and
+        """For each of the ``pair_cells`` pairs: would a path join them with ``box``, one of this
+        grid's obstacles, taken away? The same answers as ``connected`` on a new grid without
+        it, from the cells around ``box`` alone: taking it away frees only cells of its window, and
         those join the components they touch there. Nothing is labelled over the whole grid
         (per floor item and new floor, that was a fifth of a 96-object turn). ``memo``: a dict
         the caller keeps across grids (the window's parts depend on the obstacles near it only).
@@ -370,15 +332,6 @@ class OccupancyGrid:
             self._spans = (np.array(rows, dtype=np.int64).reshape(-1, 4), list(self.obstacles))
         return self._spans
 
-    def joined(self, labels: np.ndarray, pairs) -> list[bool]:
-        """For each pair (a, b): whether both lie in one component of ``labels`` (a free one).
-        ``pairs``: point pairs, or their ``pair_cells`` (for asking of many labels in turn)."""
-        if not isinstance(pairs, tuple):
-            pairs = self.pair_cells(pairs)
-        i, j, inside = pairs
-        of = np.where(inside, labels[i, j], 0)
-        return ((of[:, 0] != 0) & (of[:, 0] == of[:, 1])).tolist()
-
     def pair_cells(self, pairs: Sequence[tuple[Point, Point]]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The pairs' cells as index arrays (n, 2), clipped into the grid, and which are inside it."""
         cells = np.array([self.cell(*p) for pair in pairs for p in pair], dtype=np.int64).reshape(-1, 2, 2)
@@ -445,25 +398,10 @@ class OccupancyGrid:
 
     def still_reaches(self, box: Box, a: Point, points: Sequence[Point]) -> bool:
         """Would the robot at ``a`` still reach every one of ``points`` with ``box`` added to the
-        floor? A flood fill over this grid's free cells less those the box (inflated) covers:
-        cheaper than a new grid, for ranking where to put an item down."""
-        free = self.mask.copy()
-        r = self.radius
-        lo_i, lo_j = self.cell(box.cx - box.sx / 2 - r, box.cy - box.sy / 2 - r)
-        hi_i, hi_j = self.cell(box.cx + box.sx / 2 + r, box.cy + box.sy / 2 + r)
-        for i in range(max(lo_i, 0), min(hi_i + 1, self.shape[0])):
-            for j in range(max(lo_j, 0), min(hi_j + 1, self.shape[1])):
-                if box.clearance(*self.xy(i, j)) < r:
-                    free[i, j] = False
-        start = self.cell(*a)
-        if not (0 <= start[0] < self.shape[0] and 0 <= start[1] < self.shape[1] and free[start]):
-            return False
-        labels = _components(free)
-        for p in points:
-            c = self.cell(*p)
-            if not (0 <= c[0] < self.shape[0] and 0 <= c[1] < self.shape[1]) or labels[c] != labels[start]:
-                return False
-        return True
+        floor? This grid changed by the box (its cells only), for ranking where to put an item
+        down."""
+        grid = self.changed((*self.obstacles, box), (), (box,))
+        return grid.free(*a) and all(grid.connected(a, p) for p in points)
 
     def changed(self, obstacles: Sequence[Box], gone: Sequence[Box], new: Sequence[Box]) -> OccupancyGrid:
         """The grid of ``obstacles``: this one's with ``gone`` taken away and ``new`` added. Only

@@ -61,8 +61,8 @@ def test_a_move_alone_works_out_only_the_robots_own_waypoint(monkeypatch):
     free = room.grid(()).free_cells(reachable_from=room.entrance)
     room.facts(items, ("wp-robot", free[0]))
     grasps, searched, pairs_of = [], [], []
-    add_grasp, find, fixed = room._add_grasp, room._find_blockers, room._fixed_paths
-    monkeypatch.setattr(room, "_add_grasp", lambda *a, **k: grasps.append(a[1]) or add_grasp(*a, **k))
+    add_grasp, find, fixed = room.grasps._add_grasp, room._find_blockers, room._fixed_paths
+    monkeypatch.setattr(room.grasps, "_add_grasp", lambda *a, **k: grasps.append(a[1]) or add_grasp(*a, **k))
     monkeypatch.setattr(room, "_fixed_paths", lambda part, *a: pairs_of.append(part) or fixed(part, *a))
     monkeypatch.setattr(
         room, "_find_blockers", lambda items, pairs, memo: searched.extend(pairs) or find(items, pairs, memo)
@@ -171,32 +171,3 @@ def test_the_robots_pairs_are_its_paths_both_ways_to_every_waypoint(seed):
         if not nav.free(*at):
             assert facts.kind[f"{r}-base"] == "adjust"
             assert (f"{r}-base", r) in facts.adjust and (r, f"{r}-base") in facts.adjust
-
-
-def test_the_cells_whose_reach_crosses_a_box_are_those_found_one_by_one():
-    """_crossing_cells samples every cell's reach at once; it finds what _crosses finds cell by
-    cell, boxes whose sides lie on the samples themselves included (a grid of 5 cm cells)."""
-    import numpy as np
-
-    from tidyplan.belief.geometry import _crosses, _crossing_cells
-
-    rng = random.Random(3)
-    found = 0
-    for _ in range(600):
-        at = (0.025 + 0.05 * rng.randrange(20, 60), 0.025 + 0.05 * rng.randrange(20, 40))
-        ring = [
-            (at[0] + 0.05 * rng.randrange(-13, 14), at[1] + 0.05 * rng.randrange(-13, 14)) for _ in range(30)
-        ]
-        # sides on the cells' centres half the time: a sample on the edge counts as on the box
-        cx, cy = at[0] + 0.05 * rng.randrange(-8, 9), at[1] + 0.05 * rng.randrange(-8, 9)
-        sx, sy = (
-            (0.1 * rng.randrange(1, 5), 0.1 * rng.randrange(1, 5))
-            if rng.random() < 0.5
-            else (rng.uniform(0.02, 0.4), rng.uniform(0.02, 0.4))
-        )
-        box = Box(cx, cy, sx, sy, "b")
-        cells = np.arange(len(ring))
-        want = tuple(k for k in range(len(ring)) if _crosses(ring[k], at, box))
-        assert _crossing_cells(ring, cells, at, box) == want
-        found += len(want)
-    assert found  # some reach crossed a box: the test is of something

@@ -18,7 +18,8 @@ import math
 import pytest
 
 from sim.scenario.read import loads
-from tidyplan.belief.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.grasp import GRASP_BEST, GRASP_MAX, GRASP_MIN
 from tidyplan.belief.percepts import Detection, Frame
 from tidyplan.belief.state import Belief
 from tidyplan.exec.bindings import MonitoredExecutor

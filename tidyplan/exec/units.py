@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 
-from tidyplan.belief.geometry import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, straight
+from tidyplan.belief.grasp import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, straight
 from tidyplan.belief.mapfacts import deposit_waypoint
 from tidyplan.belief.percepts import SWEEP_STOPS
 from tidyplan.exec.catalogue import (

@@ -15,7 +15,8 @@ import math
 import numpy as np
 
 from sim.scenario.model import Scenario
-from tidyplan.belief.geometry import GRASP_BEST, GRASP_MAX, GRASP_MIN, RoomMap
+from tidyplan.belief.geometry import RoomMap
+from tidyplan.belief.grasp import GRASP_BEST, GRASP_MAX, GRASP_MIN
 from tidyplan.belief.percepts import Detection, Frame
 from tidyplan.worlds.contract import Odometer, Outcome, Referee, Skills, TrueItem, World
 from tidyplan.worlds.rates import Rates

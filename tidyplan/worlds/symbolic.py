@@ -37,7 +37,8 @@ import numpy as np
 from sim.grid import Box
 from sim.scenario.model import ORIENTATION, DrawerLayout, Scenario, drawer_layout, out_boxes
 from sim.visibility import Box3, in_frame, visible
-from tidyplan.belief.geometry import GRASP_MAX, RoomMap, free_spots
+from tidyplan.belief.geometry import RoomMap, free_spots
+from tidyplan.belief.grasp import GRASP_MAX
 from tidyplan.belief.percepts import Detection, Frame
 from tidyplan.worlds.base import (
     FRAME_EVERY,
