@@ -47,11 +47,10 @@ def _unit(module: str) -> str:
     top-level module itself (``tidyplan.errors``, ``tidyplan.library``)."""
     parts = module.split(".")
     if parts[0] == "sim":
-        return (
-            "sim.scenario"
-            if parts[1:2] == ["scenario"]
-            else ("sim.grid" if parts[1:2] == ["grid"] else "sim")
-        )
+        # the bottom of sim: the footprint (box), the grid over it, the scenario format over both
+        if parts[1:2] in (["scenario"], ["grid"], ["box"]):
+            return f"sim.{parts[1]}"
+        return "sim"
     if len(parts) == 1:
         return "tidyplan"
     return ".".join(parts[:2])

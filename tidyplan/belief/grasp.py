@@ -11,15 +11,13 @@ floor chooses again only near what changed. ``tidyplan.belief.geometry.RoomMap``
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from collections.abc import Iterable
+from typing import Protocol
 
 import numpy as np
 
 from sim.grid import Box, OccupancyGrid
 from tidyplan.belief.mapfacts import MapFacts, Placed, Point, grasp_waypoint
-
-if TYPE_CHECKING:
-    from tidyplan.belief.geometry import RoomMap
 
 # m from the item: the arm's comfortable reach; the minimum keeps the pose outside the item's own
 # inflation (0.27 m + half its 8 cm), so an item never blocks the pose it is grasped from
@@ -27,10 +25,19 @@ GRASP_MIN, GRASP_BEST, GRASP_MAX = 0.35, 0.45, 0.65
 ADJUST_MAX = 0.60  # m: the longest pose adjustment, a short careful omnidirectional move
 
 
+class Map(Protocol):
+    """What the choice needs of the map it is made on (``tidyplan.belief.geometry.RoomMap``)."""
+
+    entrance: Point
+    bare_radius: float
+
+    def grid(self, floor: Iterable[Box], *, bare: bool = False) -> OccupancyGrid: ...
+
+
 class GraspPoses:
     """Each item's grasp pose on a floor (``choose``), with what the choices depend on kept."""
 
-    def __init__(self, room: RoomMap) -> None:
+    def __init__(self, room: Map) -> None:
         self.room = room
         self._out: tuple[Box, ...] = ()  # the open drawers' boxes, set by choose()
         self._origin: Point = room.entrance  # where the robot reaches from, set by choose()
