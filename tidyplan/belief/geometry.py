@@ -186,12 +186,7 @@ class RoomMap:
             kept = dict(sticky or {})
             kept.update((item, chosen.points[wp]) for item, wp in chosen.grasp.items())
             floor_memo.grasp[(*key[:2], tuple((p.name, kept.get(p.name)) for p in items), key[3])] = chosen
-        facts.points.update(chosen.points)
-        facts.kind.update(chosen.kind)
-        facts.grasp.update(chosen.grasp)
-        facts.unreachable.extend(chosen.unreachable)
-        facts.adjust.update(chosen.adjust)
-        facts.reach_blockers.update(chosen.reach_blockers)
+        facts.add_poses(chosen)
         if robot is not None and robot[0] not in facts.points:
             # under its own name even beside another waypoint: the plan being executed says it
             facts.points[robot[0]], facts.kind[robot[0]] = robot[1], "robot"
@@ -250,14 +245,8 @@ class RoomMap:
         own.adjust = dict(facts.adjust)
         for r in robots:
             self._robot_paths(own, items, names, r, bases, nav, static, floor_memo)
-        facts.path.update(part.path)
-        facts.blocked.update(part.blocked)
-        facts.blocks.update(part.blocks)
-        facts.adjust.update(part.adjust)
-        facts.path.update(own.path)
-        facts.blocked.update(own.blocked)
-        facts.blocks.update(own.blocks)
-        facts.adjust.update(own.adjust)
+        facts.add_pairs(part)
+        facts.add_pairs(own)
         facts.shared, facts.own = part, own
 
     def _fixed_paths(self, facts: MapFacts, items, nav, static, floor_memo: _Floor) -> None:

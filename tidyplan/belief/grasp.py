@@ -106,12 +106,7 @@ class GraspPoses:
                     self._poses[key_p] = _LATER
                     key_p = (*key_p, *self._beyond_reach(p, nav, static, boxes, floor))
                 self._poses[key_p] = one
-            chosen.points.update(one.points)
-            chosen.kind.update(one.kind)
-            chosen.grasp.update(one.grasp)
-            chosen.unreachable.extend(one.unreachable)
-            chosen.adjust.update(one.adjust)
-            chosen.reach_blockers.update(one.reach_blockers)
+            chosen.add_poses(one)
             for q in one.points.values():
                 taken.add(q)
         return chosen

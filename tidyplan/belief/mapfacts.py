@@ -67,6 +67,23 @@ class MapFacts:
     own: MapFacts | None = None
     dropped: set[tuple[str, str]] = field(default_factory=set)
 
+    def add_poses(self, other: MapFacts) -> None:
+        """Take ``other``'s waypoints and grasp facts, no pair: one item's choice into a floor's,
+        a floor's into an answer."""
+        self.points.update(other.points)
+        self.kind.update(other.kind)
+        self.grasp.update(other.grasp)
+        self.unreachable.extend(other.unreachable)
+        self.adjust.update(other.adjust)
+        self.reach_blockers.update(other.reach_blockers)
+
+    def add_pairs(self, other: MapFacts) -> None:
+        """Take ``other``'s pairs: paths, blocked paths and their blockers, pose adjustments."""
+        self.path.update(other.path)
+        self.blocked.update(other.blocked)
+        self.blocks.update(other.blocks)
+        self.adjust.update(other.adjust)
+
     def distance(self, a: str, b: str) -> float | None:
         for table in (self.path, self.blocked, self.adjust):
             if (a, b) in table:
