@@ -125,13 +125,17 @@ class OccupancyGrid:
 
     def free_at(self, points: np.ndarray) -> np.ndarray:
         """``free`` for each of ``points`` ((n, 2)), at once."""
-        x0, _x1, y0, _y1 = self.bounds
-        i = np.floor((points[:, 0] - x0) / self.cell_size).astype(np.int64)
-        j = np.floor((points[:, 1] - y0) / self.cell_size).astype(np.int64)
-        inside = (i >= 0) & (i < self.shape[0]) & (j >= 0) & (j < self.shape[1])
+        i, j, inside = self._cells_of(points)
         out = np.zeros(len(points), dtype=bool)
         out[inside] = self.mask[i[inside], j[inside]]
         return out
+
+    def _cells_of(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``cell`` of each of ``points`` ((n, 2)) as arrays (i, j), and which lie in the grid."""
+        x0, _x1, y0, _y1 = self.bounds
+        i = np.floor((points[:, 0] - x0) / self.cell_size).astype(np.int64)
+        j = np.floor((points[:, 1] - y0) / self.cell_size).astype(np.int64)
+        return i, j, (i >= 0) & (i < self.shape[0]) & (j >= 0) & (j < self.shape[1])
 
     def reaches(self, points: np.ndarray, reachable_from: Point) -> np.ndarray:
         """For each of ``points`` ((n, 2)): is its cell free and connected to ``reachable_from``'s
@@ -139,10 +143,7 @@ class OccupancyGrid:
         start = self.cell(*reachable_from)
         if not self._free_cell(start) or not len(points):
             return np.zeros(len(points), dtype=bool)
-        x0, _x1, y0, _y1 = self.bounds
-        i = np.floor((points[:, 0] - x0) / self.cell_size).astype(np.int64)
-        j = np.floor((points[:, 1] - y0) / self.cell_size).astype(np.int64)
-        inside = (i >= 0) & (i < self.shape[0]) & (j >= 0) & (j < self.shape[1])
+        i, j, inside = self._cells_of(points)
         out = np.zeros(len(points), dtype=bool)
         out[inside] = self._labels[i[inside], j[inside]] == self._labels[start]
         return out

@@ -40,6 +40,8 @@ def focus_safe(domain: m.Domain) -> bool:
 
 def _safe_formula(f, bound: frozenset[str]) -> bool:
     if isinstance(f, m.Atom):
+        if f.predicate in (*PAIR_PREDICATES, ADJUST) and any(not a.startswith("?") for a in f.args):
+            return False  # a constant names a waypoint no step's arguments do
         quantified = [a for a in f.args if a in bound]
         if not quantified:
             return True

@@ -130,10 +130,10 @@ class Atoms(AbstractSet):
     __hash__ = AbstractSet._hash
 
 
-_GROUPS: dict[int, tuple[frozenset, dict]] = {}  # id(base) -> (base, {(predicate, k): grouping})
+_GROUPS: dict[int, tuple[AbstractSet, dict]] = {}  # id(base) -> (base, {(predicate, k): grouping})
 
 
-def _grouped(base: frozenset, predicate: str, k: int | None):
+def _grouped(base: AbstractSet, predicate: str, k: int | None):
     """A base's atoms of ``predicate``, in a list (k None) or by argument k: worked out once per
     base (per map), kept for the last few bases."""
     hit = _GROUPS.get(id(base))
