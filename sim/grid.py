@@ -22,7 +22,6 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 
-import networkx as nx
 import numpy as np
 from scipy.ndimage import label as _label_components
 from scipy.sparse import csr_matrix
@@ -69,7 +68,6 @@ class OccupancyGrid:
         x0, x1, y0, y1 = bounds
         self.shape = (round((x1 - x0) / cell), round((y1 - y0) / cell))
         self.mask = self._free_mask() if mask is None else mask
-        self._graph_built: nx.Graph | None = None  # built on first use: ``graph``
         # one Dijkstra per source cell, remembered: lengths and the cell before each on its path
         self._trees: dict[Cell, np.ndarray] = {}  # by source cell: each free cell's predecessor
         self._lengths: dict[Cell, np.ndarray] = {}  # a source cell's lengths to every free cell
@@ -467,7 +465,7 @@ class OccupancyGrid:
 
     @property
     def _matrix(self) -> csr_matrix:
-        """The graph's edges (to higher neighbours, as ``graph``) as a sparse matrix of weights."""
+        """The 8-connected graph's edges (to higher neighbours) as a sparse matrix of weights."""
         if self._csr is None:
             n_i, n_j = self.shape
             node = self._node
@@ -557,27 +555,6 @@ class OccupancyGrid:
                 free[i0:i1, j0:j1] &= self._clear_of((b,), bx, by)
         free.flags.writeable = False  # the grid is a value: with_obstacles makes a new one
         return free
-
-    @property
-    def graph(self) -> nx.Graph:
-        """8-connected graph over free cells (isolated ones included), edges to higher neighbours;
-        weights are the steps' lengths. Built when a path or its length is first asked for."""
-        if self._graph_built is None:
-            self._graph_built = self._graph()
-        return self._graph_built
-
-    def _graph(self) -> nx.Graph:
-        g = nx.Graph()
-        n_i, n_j = self.shape
-        diagonal = self.cell_size * math.sqrt(2)
-        steps = ((1, 0, self.cell_size), (0, 1, self.cell_size), (1, 1, diagonal), (1, -1, diagonal))
-        for i, j in zip(*np.nonzero(self.mask), strict=True):
-            g.add_node((int(i), int(j)))
-            for di, dj, w in steps:
-                a, b = i + di, j + dj
-                if 0 <= a < n_i and 0 <= b < n_j and self.mask[a, b]:
-                    g.add_edge((int(i), int(j)), (int(a), int(b)), weight=w)
-        return nx.freeze(g)  # like the mask: shared maps must not be edited behind callers
 
 
 def _root(parent: np.ndarray, x: int) -> int:

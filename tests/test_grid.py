@@ -189,16 +189,24 @@ def test_paths_from_one_tree_are_shortest_by_networkx_and_the_same_on_a_fresh_gr
     boxes = [Box(2.0, 1.5, 0.4, 1.6), Box(1.0, 0.8, 0.3, 0.3)]
     grid = OccupancyGrid(ROOM, boxes, radius=R)
     cells = [(int(i), int(j)) for i, j in zip(*grid.mask.nonzero(), strict=True)]
+    # the oracle's graph: 8-connected over the free cells, a step weighs its length
+    graph = nx.Graph()
+    graph.add_nodes_from(cells)
+    straight, diagonal = grid.cell_size, grid.cell_size * math.sqrt(2)
+    for i, j in cells:
+        for di, dj, w in ((1, 0, straight), (0, 1, straight), (1, 1, diagonal), (1, -1, diagonal)):
+            if grid.free(*grid.xy(i + di, j + dj)):
+                graph.add_edge((i, j), (i + di, j + dj), weight=w)
     rng = random.Random(0)
     unreachable = 0
     for _ in range(60):
         a, b = grid.xy(*rng.choice(cells)), grid.xy(*rng.choice(cells))
         ca, cb = grid.cell(*a), grid.cell(*b)
-        if not nx.has_path(grid.graph, ca, cb):
+        if not nx.has_path(graph, ca, cb):
             assert grid.path(a, b) is None and grid.lengths_from(a, [b]) == [None]
             unreachable += 1
             continue
-        want = nx.dijkstra_path_length(grid.graph, ca, cb, weight="weight")
+        want = nx.dijkstra_path_length(graph, ca, cb, weight="weight")
         path = grid.path(a, b)
         steps = [grid.cell(*p) for p in path]
         assert steps[0] == ca and steps[-1] == cb
