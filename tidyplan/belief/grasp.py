@@ -43,14 +43,15 @@ class GraspPoses:
         self._origin: Point = room.entrance  # where the robot reaches from, set by choose()
         self._bare_cells: tuple[list[Point], np.ndarray] | None = None  # for _ring
         self._rings: dict[Point, list[Point]] = {}  # _ring's answers, by item position
-        self._pairs: dict[tuple, tuple[tuple[int, ...], tuple[int, ...]]] = {}  # _pair's answers
-        self._crossings: dict[tuple, dict] = {}  # _crossing's answers, by item and floor near it
+        self._pairs: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}  # _pair's answers
+        self._crossings: dict[tuple, _Blockers] = {}  # _crossing's answers, by item and floor near it
         self._poses: dict[tuple, MapFacts | object] = {}  # one item's grasp facts, by what they depend on
-        self._windows: dict[Point, np.ndarray] = {}  # _beyond_reach's cells around an item
+        self._windows: dict[Point, np.ndarray] = {}  # _beyond_reach's cells around an item (flat)
         self._ring_arrays: dict[Point, np.ndarray] = {}  # _ring's cells as an (n, 2) array
-        self._ruled: dict[tuple[Point, Point], bool] = {}  # _rules_out's answers
+        self._ruled: dict[tuple[Point, Point], np.ndarray] = {}  # _ruled_out's answers
         self._ring_indexes: dict[Point, dict[Point, int]] = {}  # _ring_index's
         self._ring_flat: dict[Point, np.ndarray] = {}  # _ring_cells'
+        self._orders: dict[Point, np.ndarray] = {}  # _order's
 
     def choose(
         self,
@@ -81,106 +82,108 @@ class GraspPoses:
             # the floor items that can cross the reach from a ring cell, stand on one, or
             # take one from the bare footprint: within the reach and the base's radius
             within = _near_boxes(boxes, p.xy, GRASP_MAX + self.room.bare_radius + 0.03)
-            near = tuple(floor[i] for i in within)
-            near_key = tuple(box_keys[i] for i in within)
-            # The pose depends on the item, the floor near it, the poses taken near it, the
-            # pose kept and those avoided, which of its ring's cells the robot reaches, and
-            # (for one not reached now) the room around it: kept by those, so a new floor
-            # chooses again only near what changed (choosing for every item of the room,
-            # each new floor, was a third of a 96-object turn)
+            blockers = self._crossing(p, [floor[i] for i in within], tuple(box_keys[i] for i in within), bare)
+            # The pose depends on the item, the floor items its ring waits for, the poses taken
+            # near it, the pose kept and those avoided, which of its ring's cells the robot
+            # reaches, and (for one not reached now) the room around it: kept by those, so a new
+            # floor chooses again only where what changed matters to the choice (choosing for
+            # every item of the room, each new floor, was a third of a 96-object turn; for
+            # every item near a change, four in five chose as before)
             # the poses within 0.1 m of a ring cell: the only ones that rule one out
             near_poses = taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6)
             others = tuple(sorted(q for q in near_poses if self._rules_out(p.xy, q)))
             reach = nav.reaches_cells(self._ring_cells(p.xy), origin).tobytes()
-            key_p = (p.name, p.xy, near_key, out, previous, tuple(bad), others, reach)
+            key_p = (p.name, p.xy, blockers.key, out, previous, tuple(bad), others, reach)
             one = self._poses.get(key_p)
             if one is _LATER:  # not reached now: what the tiers beyond look at, too
                 key_p = (*key_p, *self._beyond_reach(p, nav, static, boxes, floor))
                 one = self._poses.get(key_p)
             if one is None:
                 one = MapFacts()
-                tier = self._add_grasp(one, p, list(near), nav, static, bare, reachable, previous, bad, taken)
+                tier = self._add_grasp(one, p, blockers, nav, static, bare, reachable, previous, bad, taken)
                 if len(self._poses) > 16_384:
                     self._poses.clear()
                 if tier != 1 and len(key_p) == 8:
                     self._poses[key_p] = _LATER
                     key_p = (*key_p, *self._beyond_reach(p, nav, static, boxes, floor))
                 self._poses[key_p] = one
+                # the belief keeps the pose chosen (its sticky one) and asks again: a pose kept
+                # is chosen again where its tier finds it, so the answer is the same
+                pose = one.points.get(grasp_waypoint(p.name))
+                if pose is not None and pose != previous:
+                    if tier != 1:
+                        self._poses[(*key_p[:4], pose, *key_p[5:8])] = _LATER
+                    self._poses[(*key_p[:4], pose, *key_p[5:])] = one
             chosen.add_poses(one)
             for q in one.points.values():
                 taken.add(q)
         return chosen
 
     def _add_grasp(
-        self, facts, p, floor, nav, static, bare, reachable, previous, avoid=(), taken=None
+        self,
+        facts: MapFacts,
+        p: Placed,
+        blockers: _Blockers,
+        nav: OccupancyGrid,
+        static: OccupancyGrid,
+        bare: OccupancyGrid,
+        reachable: _Reach,
+        previous: Point | None,
+        avoid: list[Point],
+        taken: _Taken,
     ) -> int:
         """Choose where the robot stands to grasp ``p``: a pose the navigation grid reaches now,
         else one it reaches once floor items are cleared (blocked), else one a pose adjustment
-        reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier.
-        ``taken``: the grasp and adjustment poses chosen so far (``_Taken``), else read from
-        ``facts``. Returns the tier: 1 now, 2 blocked, 3 tight, 0 none (unreachable).
-        The ring is worked on as arrays of its cells (by index); a cell's blockers are kept only
-        for the few that have any."""
+        reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier
+        (then fewest items waited for, then the cell). ``taken``: the grasp and adjustment
+        poses chosen so far; ``blockers``: what each ring cell waits for (``_crossing``).
+        Returns the tier: 1 now, 2 blocked, 3 tight, 0 none (unreachable).
+        The ring is worked on as arrays over its cells (by index), a tier's choice one argmin
+        over the cells' ranks (a list per cell was most of a choice at 96 objects)."""
         ring, xy = self._ring(p.xy), self._ring_array(p.xy)
-        blockers = self._crossing(p, tuple(floor), bare)
-        if taken is None:
-            taken = _Taken()
-            for n, q in facts.points.items():
-                if facts.kind[n] in ("grasp", "adjust"):
-                    taken.add(q)
         # poses taken by other waypoints (only those within reach of a ring cell can be within
         # 0.1 m of one), and those from which the robot failed to find p before
-        others = taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6)
-        kept = np.nonzero(_apart(xy, others, 0.1) & _apart(xy, list(avoid), 0.15))[0].tolist()
-        candidates = [k for k in kept if k not in blockers]
-
-        def rank(k: int) -> tuple:
-            return len(blockers.get(k, ())), abs(math.dist(ring[k], p.xy) - GRASP_BEST), ring[k]
-
+        kept = _apart(xy, list(avoid), 0.15)
+        for q in taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6):
+            kept[self._ruled_out(p.xy, q)] = False
+        waits = blockers.count
+        candidates = kept & (waits == 0)
+        # a cell's rank: the items it waits for, then its place in the ring's order
+        rank = waits * len(ring) + self._order(p.xy)
         name = grasp_waypoint(p.name)
-        reached = reachable.mask(xy) if isinstance(reachable, _Reach) else None
-        if reached is None:
-            now = [k for k in candidates if ring[k] in reachable]
-        else:
-            now = [k for k in candidates if reached[k]]
         before = self._ring_index(p.xy).get(previous) if previous is not None else None
-        if before is not None and before in now:
-            now = [before]
-        if now:
-            facts.points[name], facts.kind[name] = ring[min(now, key=rank)], "grasp"
+        now = candidates & reachable.mask(xy)
+        if now.any():
+            k = before if before is not None and now[before] else _best(now, rank)
+            facts.points[name], facts.kind[name] = ring[k], "grasp"
             facts.grasp[p.name] = name
             return 1
         # reached once other floor items are cleared; never a pose only ``p`` itself shuts off:
         # its paths would be blocked by the item to be taken from there (no plan could start)
         own = self.room.grid([p.box(), *self._out]) if p.on_floor else static
         start = self._origin if own.free(*self._origin) else self.room.entrance
-        in_room = own.reaches(xy, start)
-        later = [k for k in kept if in_room[k]]
-        if before is not None and before in later:
-            later = [before]
-        if later:
-            k = min(later, key=rank)
+        later = kept & own.reaches(xy, start)
+        if later.any():
+            k = before if before is not None and later[before] else _best(later, rank)
             facts.points[name], facts.kind[name] = ring[k], "grasp"
             facts.grasp[p.name] = name
-            if blockers.get(k):
-                facts.reach_blockers[name] = blockers[k]
+            if waits[k]:
+                facts.reach_blockers[name] = blockers.names(k)
             return 2
-        tight = []
-        free = bare.free_at(xy)
-        for k in candidates:
-            if not free[k]:
-                continue
+        # the best-ranked cell the bare footprint fits on that a pose adjustment reaches
+        fits = np.nonzero(candidates & bare.free_at(xy))[0]
+        for k in fits[np.argsort(rank[fits], kind="stable")].tolist():
             c = ring[k]
             # a pose adjustment is a short straight move: never through furniture or a wall
             # (the reachable cells near c, from the grid's window around it, not the room's)
             near = nav.free_cells_near(c, ADJUST_MAX, reachable_from=self._origin)
             base = [q for q in near if math.dist(q, c) <= ADJUST_MAX and straight(bare, q, c)]
             if base:
-                tight.append((rank(k), c, min(base, key=lambda q: (math.dist(q, c), q))))
-        if not tight:
+                base = min(base, key=lambda q: (math.dist(q, c), q))
+                break
+        else:
             facts.unreachable.append(p.name)
             return 0
-        _, c, base = min(tight)
         facts.points[name], facts.kind[name] = c, "grasp"
         facts.points[name + "-base"], facts.kind[name + "-base"] = base, "adjust"
         facts.grasp[p.name] = name
@@ -188,14 +191,14 @@ class GraspPoses:
         facts.adjust[(name + "-base", name)] = facts.adjust[(name, name + "-base")] = d
         return 3
 
-    def _crossing(self, p: Placed, floor: tuple[Box, ...], bare: OccupancyGrid) -> dict[int, tuple[str, ...]]:
-        """The cells of ``p``'s ring (by index) a grasp from which must wait for floor items,
-        with those items: those its reach to ``p`` passes over, and those standing on it where
-        the bare footprint does not fit (cells with none are left out). It depends on ``p``,
-        the floor items near it (``floor``) and the open drawers only, so it is kept by them: a
-        new floor works out again only the rings near what changed (every ring of the room,
-        each new floor, was a third of a 96-object turn)."""
-        key = (p.name, p.xy, floor, self._out)
+    def _crossing(self, p: Placed, floor: list[Box], floor_key: tuple, bare: OccupancyGrid) -> _Blockers:
+        """The floor items a grasp of ``p`` from each cell of its ring must wait for: those its
+        reach to ``p`` passes over, and those standing on the cell where the bare footprint does
+        not fit. It depends on ``p``, the floor items near it (``floor``) and the open drawers
+        only, so it is kept by them (``floor_key``: ``floor``'s boxes as ``box_key``s): a new
+        floor works out again only the rings near what changed (every ring of the room, each
+        new floor, was a third of a 96-object turn)."""
+        key = (p.name, p.xy, floor_key, self._out)
         hit = self._crossings.get(key)
         if hit is not None:
             return hit
@@ -211,19 +214,10 @@ class GraspPoses:
         # only (per whole neighbourhood, every neighbour of a taken item computed its ring again)
         ring = self._ring(p.xy)
         free = bare.free_at(self._ring_array(p.xy))
-        crosses: dict[int, list[str]] = {}
-        under: dict[int, list[str]] = {}
+        hit = _Blockers(len(ring))
         for b in others_floor:
             cross_at, under_at = self._pair(p, b, ring)
-            for k in cross_at:
-                crosses.setdefault(k, []).append(b.name)
-            for k in under_at:
-                if not free[k]:
-                    under.setdefault(k, []).append(b.name)
-        hit = {
-            k: tuple(crosses.get(k, ())) + tuple(under.get(k, ()))
-            for k in sorted(crosses.keys() | under.keys())
-        }
+            hit.add(b.name, cross_at, under_at[~free[under_at]])
         if len(self._crossings) > 4096:  # a mission's items, where they were seen, their floors
             self._crossings.clear()
         self._crossings[key] = hit
@@ -237,16 +231,19 @@ class GraspPoses:
         room = own.component(*(self._origin if own.free(*self._origin) else self.room.entrance))
         r = GRASP_MAX + ADJUST_MAX + 0.1
         wider = tuple(box_key(floor[i]) for i in _near_boxes(boxes, p.xy, r + self.room.bare_radius + 0.1))
-        if p.xy not in self._windows:
+        window = self._windows.get(p.xy)
+        if window is None:
             if len(self._windows) > 4096:
                 self._windows.clear()
             static_cells = self.room.grid(())
             i0, j0 = static_cells.cell(p.x - r, p.y - r)
             i1, j1 = static_cells.cell(p.x + r, p.y + r)
-            self._windows[p.xy] = np.array(
-                [static_cells.xy(i, j) for i in range(i0, i1 + 1) for j in range(j0, j1 + 1)], dtype=float
-            )
-        return room, wider, nav.reaches(self._windows[p.xy], self._origin).tobytes()
+            # the square's cells inside the grid, as flat indices (those outside reach nothing)
+            rows, cols = static_cells.shape
+            ii = np.arange(max(i0, 0), min(i1, rows - 1) + 1)
+            jj = np.arange(max(j0, 0), min(j1, cols - 1) + 1)
+            window = self._windows[p.xy] = (ii[:, None] * cols + jj[None, :]).ravel()
+        return room, wider, nav.reaches_cells(window, self._origin).tobytes()
 
     def _ring_cells(self, at: Point) -> np.ndarray:
         """The ring's cells as flat indices of the room's grids (all share bounds and cells)."""
@@ -269,14 +266,31 @@ class GraspPoses:
         return hit
 
     def _rules_out(self, at: Point, q: Point) -> bool:
-        """Whether pose ``q`` lies within 0.1 m of a cell of ``at``'s ring (``_apart``'s verdict),
+        """Whether pose ``q`` lies within 0.1 m of a cell of ``at``'s ring."""
+        return bool(len(self._ruled_out(at, q)))
+
+    def _ruled_out(self, at: Point, q: Point) -> np.ndarray:
+        """The cells of ``at``'s ring (indices) within 0.1 m of pose ``q`` (``_apart``'s verdict),
         kept: both are cell centres, met again on every floor."""
         key = (at, q)
         hit = self._ruled.get(key)
         if hit is None:
             if len(self._ruled) > 65_536:
                 self._ruled.clear()
-            hit = self._ruled[key] = not bool(_apart(self._ring_array(at), [q], 0.1, axis=0)[0])
+            hit = self._ruled[key] = np.nonzero(~_apart(self._ring_array(at), [q], 0.1))[0]
+        return hit
+
+    def _order(self, at: Point) -> np.ndarray:
+        """Each ring cell's place when the ring is sorted nearest to the arm's comfortable reach
+        first, then by cell (math.dist's distances, so ties fall as they always did)."""
+        hit = self._orders.get(at)
+        if hit is None:
+            if len(self._orders) > 4096:
+                self._orders.clear()
+            ring = self._ring(at)
+            by = sorted(range(len(ring)), key=lambda k: (abs(math.dist(ring[k], at) - GRASP_BEST), ring[k]))
+            hit = self._orders[at] = np.empty(len(ring), dtype=np.int64)
+            hit[by] = np.arange(len(ring))
         return hit
 
     def _ring_array(self, at: Point) -> np.ndarray:
@@ -304,7 +318,7 @@ class GraspPoses:
         self._rings[at] = [c for c in (cells[k] for k in near) if GRASP_MIN <= math.dist(c, at) <= GRASP_MAX]
         return self._rings[at]
 
-    def _pair(self, p: Placed, b: Box, ring: list[Point]) -> tuple[tuple[int, ...], tuple[int, ...]]:
+    def _pair(self, p: Placed, b: Box, ring: list[Point]) -> tuple[np.ndarray, np.ndarray]:
         """The cells of ``p``'s ring (their indices) from which the arm's reach to ``p`` passes
         over floor item ``b``, and those ``b`` stands on (within the bare footprint's radius):
         indices, not a flag per cell, since most of a ring's ~380 cells touch no given item."""
@@ -321,7 +335,7 @@ class GraspPoses:
                 | (np.maximum(xy[:, 1], p.y) < b.cy - hy)
                 | (np.minimum(xy[:, 1], p.y) > b.cy + hy)
             )
-            cross = _crossing_cells(ring, np.nonzero(~apart)[0], p.xy, b)
+            cross = np.array(_crossing_cells(ring, np.nonzero(~apart)[0], p.xy, b), dtype=np.int64)
             # the cells b stands on: numpy decides the clear cases, Box.clearance those within
             # 1e-9 m of the radius (its verdict is the rule, as in the grids' masks)
             d = np.hypot(
@@ -329,8 +343,9 @@ class GraspPoses:
                 np.maximum(np.abs(xy[:, 1] - b.cy) - b.sy / 2, 0.0),
             )
             r = self.room.bare_radius
-            under = tuple(
-                int(k) for k in np.nonzero(d < r + 1e-9)[0] if d[k] < r - 1e-9 or b.clearance(*ring[k]) < r
+            under = np.array(
+                [k for k in np.nonzero(d < r + 1e-9)[0] if d[k] < r - 1e-9 or b.clearance(*ring[k]) < r],
+                dtype=np.int64,
             )
             if len(self._pairs) > 65_536:  # pairs of items near each other, over a mission
                 self._pairs.clear()
@@ -339,6 +354,36 @@ class GraspPoses:
 
 
 _LATER = object()  # in GraspPoses._poses: not reached now, the wider key decides
+
+
+class _Blockers:
+    """The floor items a grasp from each cell of a ring waits for: their count per cell (an
+    array, read for every cell) and their names (asked for the chosen cell only: building a
+    list per cell was a fifth of choosing a pose)."""
+
+    def __init__(self, cells: int) -> None:
+        self.count = np.zeros(cells, dtype=np.int64)
+        self._by: list[tuple[str, np.ndarray, np.ndarray]] = []  # (item, cells crossed, stood on)
+        self._key: tuple | None = None  # key's, once asked (no add after)
+
+    def add(self, name: str, crosses: np.ndarray, under: np.ndarray) -> None:
+        """Floor item ``name`` crosses the reach from ``crosses`` and stands on ``under``."""
+        if len(crosses) or len(under):
+            self.count[crosses] += 1
+            self.count[under] += 1
+            self._by.append((name, crosses, under))
+
+    @property
+    def key(self) -> tuple:
+        """What the cells wait for, as a key: the same key, the same counts and names."""
+        if self._key is None:
+            self._key = tuple((n, c.tobytes(), u.tobytes()) for n, c, u in self._by)
+        return self._key
+
+    def names(self, k: int) -> tuple[str, ...]:
+        """The items cell ``k`` waits for: those crossing its reach, then those standing on it,
+        each in the floor's order."""
+        return tuple(n for n, c, _ in self._by if k in c) + tuple(n for n, _, u in self._by if k in u)
 
 
 class _Reach:
@@ -375,6 +420,11 @@ class _Taken:
             for j in range(math.floor(at[1] - r), math.floor(at[1] + r) + 1):
                 out += self._squares.get((i, j), ())
         return out
+
+
+def _best(cells: np.ndarray, rank: np.ndarray) -> int:
+    """The index of the best-ranked (lowest) of the ``cells`` marked True (some are)."""
+    return int(np.argmin(np.where(cells, rank, np.iinfo(np.int64).max)))
 
 
 def _near_boxes(boxes: np.ndarray, xy: Point, within: float) -> np.ndarray:
