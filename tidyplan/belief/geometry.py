@@ -28,8 +28,9 @@ import numpy as np
 
 from sim.grid import Box, OccupancyGrid
 from sim.scenario.model import Scenario
-from tidyplan.belief.grasp import ADJUST_MAX, GraspPoses, box_key
+from tidyplan.belief.grasp import ADJUST_MAX, GraspPoses
 from tidyplan.belief.mapfacts import ENTRANCE, MapFacts, Placed, Point, deposit_waypoint
+from tidyplan.belief.ring import box_key
 
 PATHS_KEPT = 8  # sets of fixed waypoints whose pairs a floor keeps (a few components, sticky poses)
 FLOORS_KEPT = 4  # floors whose grasp poses and blockers are kept (a failed grasp's replan sees the last)

@@ -4,8 +4,10 @@ A pose the navigation grid reaches now wins, nearest to the arm's comfortable re
 reaches once floor items in the way are cleared (P3's blocked case); else one a short pose
 adjustment reaches from a navigable cell (P2's case). ``GraspPoses`` makes the choice for every
 item of a floor and keeps, across floors, what each item's choice depends on (the floor items
-near it, the poses taken near it, the ring cells the robot reaches, the room beyond): a new
-floor chooses again only near what changed. ``tidyplan.belief.geometry.RoomMap`` owns one.
+its ring waits for, the poses taken near it, the ring cells the robot reaches, the room beyond),
+and the last choice: an item near which nothing changed keeps its answer without a key, so a
+new floor costs the items near what changed. The ring's arithmetic is ``tidyplan.belief.ring``'s;
+``tidyplan.belief.geometry.RoomMap`` owns a ``GraspPoses``.
 """
 
 from __future__ import annotations
@@ -18,11 +20,23 @@ import numpy as np
 
 from sim.grid import Box, OccupancyGrid
 from tidyplan.belief.mapfacts import MapFacts, Placed, Point, grasp_waypoint
+from tidyplan.belief.ring import (
+    Blockers,
+    Reach,
+    Taken,
+    apart,
+    best,
+    box_key,
+    crossing_cells,
+    near_boxes,
+    straight,
+)
 
 # m from the item: the arm's comfortable reach; the minimum keeps the pose outside the item's own
 # inflation (0.27 m + half its 8 cm), so an item never blocks the pose it is grasped from
 GRASP_MIN, GRASP_BEST, GRASP_MAX = 0.35, 0.45, 0.65
 ADJUST_MAX = 0.60  # m: the longest pose adjustment, a short careful omnidirectional move
+TAKEN_NEAR = GRASP_MAX + 0.1 + 1e-6  # m: a pose farther from an item is 0.1 m from all its ring
 
 
 class Map(Protocol):
@@ -44,14 +58,17 @@ class GraspPoses:
         self._bare_cells: tuple[list[Point], np.ndarray] | None = None  # for _ring
         self._rings: dict[Point, list[Point]] = {}  # _ring's answers, by item position
         self._pairs: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}  # _pair's answers
-        self._crossings: dict[tuple, _Blockers] = {}  # _crossing's answers, by item and floor near it
+        self._crossings: dict[tuple, Blockers] = {}  # _crossing's answers, by item and floor near it
         self._poses: dict[tuple, MapFacts | object] = {}  # one item's grasp facts, by what they depend on
-        self._windows: dict[Point, np.ndarray] = {}  # _beyond_reach's cells around an item (flat)
+        self._windows: dict[Point, np.ndarray] = {}  # _around's cells around an item (flat)
         self._ring_arrays: dict[Point, np.ndarray] = {}  # _ring's cells as an (n, 2) array
         self._ruled: dict[tuple[Point, Point], np.ndarray] = {}  # _ruled_out's answers
         self._ring_indexes: dict[Point, dict[Point, int]] = {}  # _ring_index's
         self._ring_flat: dict[Point, np.ndarray] = {}  # _ring_cells'
         self._orders: dict[Point, np.ndarray] = {}  # _order's
+        # the last choice: its floor (box_keys), open drawers, the cells reached (flat), and by
+        # item (item, pose kept, poses avoided, its grasp facts, (its level, its room): _keyed's)
+        self._last: tuple[set, tuple, np.ndarray, dict[str, tuple]] | None = None
 
     def choose(
         self,
@@ -69,82 +86,165 @@ class GraspPoses:
         name order: a pose chosen is taken for the items after it. ``sticky``: poses chosen
         before, kept where still usable; ``avoid``: poses to stay away from, by item."""
         self._out, self._origin = out, origin
-        reachable = _Reach(nav, origin)
+        reachable = Reach(nav, origin)
         chosen = MapFacts()
         # the floor's boxes as arrays: which are near an item, for every item at once (a loop
         # over every pair was a seventh of a turn at 96 objects)
         boxes = np.array([(b.cx, b.cy, b.sx / 2, b.sy / 2) for b in floor], dtype=float).reshape(-1, 4)
-        taken = _Taken()
+        taken = Taken()
         # the boxes as plain tuples, for the keys below (C's hashing, not a dataclass's)
         box_keys = [box_key(b) for b in floor]
-        for p in sorted(items, key=lambda p: p.name):
+        items = sorted(items, key=lambda p: p.name)
+        # An item whose floor near it, ring reach, kept and avoided poses, poses taken near it
+        # and (if not reached now) part of the room are as at the last choice keeps its
+        # answer without a key: only the items near what changed are looked at (a key for
+        # every item of the room, each new floor, was a third of the choice at 96 objects)
+        reach = nav.reaches_cells(np.arange(nav.shape[0] * nav.shape[1]), origin)
+        stale = self._stale(items, set(box_keys), out, reach, nav)
+        last = self._last[3] if self._last is not None else {}
+        moved = Taken()  # the poses of the items whose answer changed, before and after
+        for name in last.keys() - {p.name for p in items}:
+            for q in last[name][3].points.values():
+                moved.add(q)
+        answers: dict[str, tuple] = {}
+        for i, p in enumerate(items):
             bad, previous = (avoid or {}).get(p.name, []), (sticky or {}).get(p.name)
-            # the floor items that can cross the reach from a ring cell, stand on one, or
-            # take one from the bare footprint: within the reach and the base's radius
-            within = _near_boxes(boxes, p.xy, GRASP_MAX + self.room.bare_radius + 0.03)
-            blockers = self._crossing(p, [floor[i] for i in within], tuple(box_keys[i] for i in within), bare)
-            # The pose depends on the item, the floor items its ring waits for, the poses taken
-            # near it, the pose kept and those avoided, which of its ring's cells the robot
-            # reaches, and (for one not reached now) the room around it: kept by those, so a new
-            # floor chooses again only where what changed matters to the choice (choosing for
-            # every item of the room, each new floor, was a third of a 96-object turn; for
-            # every item near a change, four in five chose as before)
-            # the poses within 0.1 m of a ring cell: the only ones that rule one out
-            near_poses = taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6)
-            others = tuple(sorted(q for q in near_poses if self._rules_out(p.xy, q)))
-            reach = nav.reaches_cells(self._ring_cells(p.xy), origin).tobytes()
-            key_p = (p.name, p.xy, blockers.key, out, previous, tuple(bad), others, reach)
-            one = self._poses.get(key_p)
-            if one is _LATER:  # not reached now: what the tiers beyond look at, too
-                key_p = (*key_p, *self._beyond_reach(p, nav, static, boxes, floor))
-                one = self._poses.get(key_p)
-            if one is None:
-                one = MapFacts()
-                tier = self._add_grasp(one, p, blockers, nav, static, bare, reachable, previous, bad, taken)
-                if len(self._poses) > 16_384:
-                    self._poses.clear()
-                if tier != 1 and len(key_p) == 8:
-                    self._poses[key_p] = _LATER
-                    key_p = (*key_p, *self._beyond_reach(p, nav, static, boxes, floor))
-                self._poses[key_p] = one
-                # the belief keeps the pose chosen (its sticky one) and asks again: a pose kept
-                # is chosen again where its tier finds it, so the answer is the same
-                pose = one.points.get(grasp_waypoint(p.name))
-                if pose is not None and pose != previous:
-                    if tier != 1:
-                        self._poses[(*key_p[:4], pose, *key_p[5:8])] = _LATER
-                    self._poses[(*key_p[:4], pose, *key_p[5:])] = one
+            was = last.get(p.name)
+            if (
+                was is not None
+                and not stale[i]
+                and was[4][0] < 3
+                and was[:3] == (p, previous, tuple(bad))
+                and not moved.near(p.xy, TAKEN_NEAR)
+                and (was[4][0] == 1 or self._room_of(p, static) == was[4][1])
+            ):
+                one, level = was[3], was[4]
+            else:
+                one, level = self._keyed(
+                    p, floor, box_keys, boxes, nav, static, bare, reachable, previous, bad, taken
+                )
+                if was is None or was[3].points != one.points:
+                    for q in (*(was[3].points.values() if was else ()), *one.points.values()):
+                        moved.add(q)
+            answers[p.name] = (p, previous, tuple(bad), one, level)
             chosen.add_poses(one)
             for q in one.points.values():
                 taken.add(q)
+        self._last = (set(box_keys), out, reach, answers)
         return chosen
+
+    def _keyed(self, p, floor, box_keys, boxes, nav, static, bare, reachable, previous, bad, taken) -> tuple:
+        """``p``'s grasp facts by what they depend on (chosen anew only for a key not met before),
+        and (level, room): reached now (level 1: the answer depends on the ring's reach alone),
+        once other floor items are cleared (2: and on ``room``, the robot's part of the room),
+        or by a pose adjustment or not at all (3: and on the room around the ring)."""
+        # the floor items that can cross the reach from a ring cell, stand on one, or
+        # take one from the bare footprint: within the reach and the base's radius
+        within = near_boxes(boxes, p.xy, GRASP_MAX + self.room.bare_radius + 0.03)
+        blockers = self._crossing(p, [floor[i] for i in within], tuple(box_keys[i] for i in within), bare)
+        # The pose depends on the item, the floor items its ring waits for, the poses taken
+        # near it, the pose kept and those avoided, which of its ring's cells the robot
+        # reaches, and (for one not reached now) the room around it: kept by those, so a new
+        # floor chooses again only where what changed matters to the choice (for every item
+        # near a change, four in five chose as before)
+        # the poses within 0.1 m of a ring cell: the only ones that rule one out
+        near_poses = taken.near(p.xy, TAKEN_NEAR)
+        others = tuple(sorted(q for q in near_poses if self._rules_out(p.xy, q)))
+        reach = reachable.cells(self._ring_cells(p.xy))
+        key = (p.name, p.xy, blockers.key, self._out, previous, tuple(bad), others, reach)
+        one, room = self._poses.get(key), None
+        if one is _LATER:  # not reached now: reached once others are cleared, from the robot?
+            room = self._room_of(p, static)
+            key = (*key, room)
+            one = self._poses.get(key)
+            if one is _LATER:  # not even then: the room around it, for a pose adjustment
+                key = (*key, *self._around(p, nav, boxes, floor))
+                one = self._poses.get(key)
+        if one is None:
+            one = MapFacts()
+            tier = self._add_grasp(one, p, blockers, nav, static, bare, reachable, previous, bad, others)
+            if len(self._poses) > 16_384:
+                self._poses.clear()
+            beyond = []  # what the key holds beyond its first part, by tier
+            if tier != 1:
+                room = self._room_of(p, static) if room is None else room
+                beyond.append((room,))
+            if tier in (0, 3):
+                beyond.append(self._around(p, nav, boxes, floor))
+            # the belief keeps the pose chosen (its sticky one) and asks again: a pose kept
+            # is chosen again where its tier finds it, so the answer is the same
+            pose = one.points.get(grasp_waypoint(p.name))
+            firsts = [key[:8]] if pose is None or pose == previous else [key[:8], (*key[:4], pose, *key[5:8])]
+            for k in firsts:
+                for part in beyond:
+                    self._poses[k] = _LATER
+                    k = (*k, *part)
+                self._poses[k] = one
+            key = k
+        # reached now (1), in its part of the room (2: that room), or the room around it (3)
+        return one, (1 if len(key) == 8 else 2 if len(key) == 9 else 3, room)
+
+    def _stale(self, items: list[Placed], floor: set, out: tuple, reach: np.ndarray, nav: OccupancyGrid):
+        """For each item, whether something its pose (if reached now) depends on may have
+        changed since the last choice: a floor item near it come or gone, a cell of its ring
+        reached then and not now or the other way. (The item itself, its kept and avoided
+        poses and the poses taken near it, ``choose`` compares.)"""
+        if self._last is None or self._last[1] != out or self._last[2].shape != reach.shape:
+            return np.ones(len(items), dtype=bool)
+        xy = np.array([p.xy for p in items], dtype=float).reshape(-1, 2)
+        stale = np.zeros(len(items), dtype=bool)
+        changed = np.array([(b[0], b[1], b[2] / 2, b[3] / 2) for b in floor ^ self._last[0]], dtype=float)
+        if len(changed):  # near_boxes' test, for every item and changed box at once
+            dx = np.maximum(np.abs(xy[:, None, 0] - changed[None, :, 0]) - changed[None, :, 2], 0.0)
+            dy = np.maximum(np.abs(xy[:, None, 1] - changed[None, :, 1]) - changed[None, :, 3], 0.0)
+            stale |= (np.hypot(dx, dy) <= GRASP_MAX + self.room.bare_radius + 0.03 + 1e-9).any(axis=1)
+        flipped = (reach != self._last[2]).reshape(nav.shape)
+        if flipped.any():  # the flipped cells in each ring's square (a cell to spare), summed
+            sums = np.zeros((nav.shape[0] + 1, nav.shape[1] + 1), dtype=np.int64)
+            sums[1:, 1:] = flipped.cumsum(axis=0).cumsum(axis=1)
+            x0, _x1, y0, _y1 = nav.bounds
+            i0 = np.clip(
+                np.floor((xy[:, 0] - GRASP_MAX - x0) / nav.cell_size).astype(int) - 1, 0, nav.shape[0]
+            )
+            i1 = np.clip(
+                np.floor((xy[:, 0] + GRASP_MAX - x0) / nav.cell_size).astype(int) + 2, 0, nav.shape[0]
+            )
+            j0 = np.clip(
+                np.floor((xy[:, 1] - GRASP_MAX - y0) / nav.cell_size).astype(int) - 1, 0, nav.shape[1]
+            )
+            j1 = np.clip(
+                np.floor((xy[:, 1] + GRASP_MAX - y0) / nav.cell_size).astype(int) + 2, 0, nav.shape[1]
+            )
+            stale |= (sums[i1, j1] - sums[i0, j1] - sums[i1, j0] + sums[i0, j0]) > 0
+        return stale
 
     def _add_grasp(
         self,
         facts: MapFacts,
         p: Placed,
-        blockers: _Blockers,
+        blockers: Blockers,
         nav: OccupancyGrid,
         static: OccupancyGrid,
         bare: OccupancyGrid,
-        reachable: _Reach,
+        reachable: Reach,
         previous: Point | None,
         avoid: list[Point],
-        taken: _Taken,
+        others: tuple[Point, ...],
     ) -> int:
         """Choose where the robot stands to grasp ``p``: a pose the navigation grid reaches now,
         else one it reaches once floor items are cleared (blocked), else one a pose adjustment
         reaches from a navigable cell (tight). Nearest to the comfortable reach wins each tier
-        (then fewest items waited for, then the cell). ``taken``: the grasp and adjustment
-        poses chosen so far; ``blockers``: what each ring cell waits for (``_crossing``).
+        (then fewest items waited for, then the cell). ``others``: the grasp and adjustment
+        poses chosen so far within 0.1 m of a ring cell; ``blockers``: what each ring cell
+        waits for (``_crossing``).
         Returns the tier: 1 now, 2 blocked, 3 tight, 0 none (unreachable).
         The ring is worked on as arrays over its cells (by index), a tier's choice one argmin
         over the cells' ranks (a list per cell was most of a choice at 96 objects)."""
         ring, xy = self._ring(p.xy), self._ring_array(p.xy)
-        # poses taken by other waypoints (only those within reach of a ring cell can be within
-        # 0.1 m of one), and those from which the robot failed to find p before
-        kept = _apart(xy, list(avoid), 0.15)
-        for q in taken.near(p.xy, GRASP_MAX + 0.1 + 1e-6):
+        # away from the poses taken by other waypoints and those from which the robot failed to
+        # find p before
+        kept = apart(xy, list(avoid), 0.15)
+        for q in others:
             kept[self._ruled_out(p.xy, q)] = False
         waits = blockers.count
         candidates = kept & (waits == 0)
@@ -154,7 +254,7 @@ class GraspPoses:
         before = self._ring_index(p.xy).get(previous) if previous is not None else None
         now = candidates & reachable.mask(xy)
         if now.any():
-            k = before if before is not None and now[before] else _best(now, rank)
+            k = before if before is not None and now[before] else best(now, rank)
             facts.points[name], facts.kind[name] = ring[k], "grasp"
             facts.grasp[p.name] = name
             return 1
@@ -164,7 +264,7 @@ class GraspPoses:
         start = self._origin if own.free(*self._origin) else self.room.entrance
         later = kept & own.reaches(xy, start)
         if later.any():
-            k = before if before is not None and later[before] else _best(later, rank)
+            k = before if before is not None and later[before] else best(later, rank)
             facts.points[name], facts.kind[name] = ring[k], "grasp"
             facts.grasp[p.name] = name
             if waits[k]:
@@ -191,7 +291,7 @@ class GraspPoses:
         facts.adjust[(name + "-base", name)] = facts.adjust[(name, name + "-base")] = d
         return 3
 
-    def _crossing(self, p: Placed, floor: list[Box], floor_key: tuple, bare: OccupancyGrid) -> _Blockers:
+    def _crossing(self, p: Placed, floor: list[Box], floor_key: tuple, bare: OccupancyGrid) -> Blockers:
         """The floor items a grasp of ``p`` from each cell of its ring must wait for: those its
         reach to ``p`` passes over, and those standing on the cell where the bare footprint does
         not fit. It depends on ``p``, the floor items near it (``floor``) and the open drawers
@@ -207,30 +307,35 @@ class GraspPoses:
         # once that item is taken away, like an item lying across a path.
         # A pose where another floor item stands is usable once that item is taken away too: the
         # only poses of an item hemmed in by others (a table side lined with floor items).
-        others_floor = [b for b in floor if b.name != p.name and b.clearance(*p.xy) <= GRASP_MAX + 0.5]
+        others_floor = [
+            (b, k)
+            for b, k in zip(floor, floor_key, strict=True)
+            if b.name != p.name and b.clearance(*p.xy) <= GRASP_MAX + 0.5
+        ]
         # (``floor``: the floor items numpy found near p, in order; the exact test is this one)
         # What crosses the ring depends on p and each floor item near it, one pair at a time:
         # remembered per pair, so a floor with one item more or less costs that item's pairs
         # only (per whole neighbourhood, every neighbour of a taken item computed its ring again)
         ring = self._ring(p.xy)
         free = bare.free_at(self._ring_array(p.xy))
-        hit = _Blockers(len(ring))
-        for b in others_floor:
-            cross_at, under_at = self._pair(p, b, ring)
-            hit.add(b.name, cross_at, under_at[~free[under_at]])
+        hit = Blockers(len(ring), [(b.name, *self._pair(p, b, k, ring)) for b, k in others_floor], free)
         if len(self._crossings) > 4096:  # a mission's items, where they were seen, their floors
             self._crossings.clear()
         self._crossings[key] = hit
         return hit
 
-    def _beyond_reach(self, p: Placed, nav, static, boxes: np.ndarray, floor: list[Box]) -> tuple:
-        """What a grasp pose not reached now depends on beyond ``_poses``' first key: the part
-        of the room with only ``p`` on the floor that the robot is in (blocked poses), the floor
-        items and the cells the robot reaches within a pose adjustment of the ring (tight ones)."""
+    def _room_of(self, p: Placed, static: OccupancyGrid) -> int:
+        """What a grasp pose not reached now depends on beyond ``_poses``' first key: the part of
+        the room with only ``p`` on the floor (and the open drawers) the robot is in."""
         own = self.room.grid([p.box(), *self._out]) if p.on_floor else static
-        room = own.component(*(self._origin if own.free(*self._origin) else self.room.entrance))
+        return own.component(*(self._origin if own.free(*self._origin) else self.room.entrance))
+
+    def _around(self, p: Placed, nav: OccupancyGrid, boxes: np.ndarray, floor: list[Box]) -> tuple:
+        """What a grasp pose neither reached now nor once others are cleared depends on beyond
+        that: the floor items and the cells the robot reaches within a pose adjustment of the
+        ring (tight poses)."""
         r = GRASP_MAX + ADJUST_MAX + 0.1
-        wider = tuple(box_key(floor[i]) for i in _near_boxes(boxes, p.xy, r + self.room.bare_radius + 0.1))
+        wider = tuple(box_key(floor[i]) for i in near_boxes(boxes, p.xy, r + self.room.bare_radius + 0.1))
         window = self._windows.get(p.xy)
         if window is None:
             if len(self._windows) > 4096:
@@ -243,7 +348,7 @@ class GraspPoses:
             ii = np.arange(max(i0, 0), min(i1, rows - 1) + 1)
             jj = np.arange(max(j0, 0), min(j1, cols - 1) + 1)
             window = self._windows[p.xy] = (ii[:, None] * cols + jj[None, :]).ravel()
-        return room, wider, nav.reaches_cells(window, self._origin).tobytes()
+        return wider, nav.reaches_cells(window, self._origin).tobytes()
 
     def _ring_cells(self, at: Point) -> np.ndarray:
         """The ring's cells as flat indices of the room's grids (all share bounds and cells)."""
@@ -270,14 +375,14 @@ class GraspPoses:
         return bool(len(self._ruled_out(at, q)))
 
     def _ruled_out(self, at: Point, q: Point) -> np.ndarray:
-        """The cells of ``at``'s ring (indices) within 0.1 m of pose ``q`` (``_apart``'s verdict),
+        """The cells of ``at``'s ring (indices) within 0.1 m of pose ``q`` (``apart``'s verdict),
         kept: both are cell centres, met again on every floor."""
         key = (at, q)
         hit = self._ruled.get(key)
         if hit is None:
             if len(self._ruled) > 65_536:
                 self._ruled.clear()
-            hit = self._ruled[key] = np.nonzero(~_apart(self._ring_array(at), [q], 0.1))[0]
+            hit = self._ruled[key] = np.nonzero(~apart(self._ring_array(at), [q], 0.1))[0]
         return hit
 
     def _order(self, at: Point) -> np.ndarray:
@@ -318,15 +423,16 @@ class GraspPoses:
         self._rings[at] = [c for c in (cells[k] for k in near) if GRASP_MIN <= math.dist(c, at) <= GRASP_MAX]
         return self._rings[at]
 
-    def _pair(self, p: Placed, b: Box, ring: list[Point]) -> tuple[np.ndarray, np.ndarray]:
+    def _pair(self, p: Placed, b: Box, b_key: tuple, ring: list[Point]) -> tuple[np.ndarray, np.ndarray]:
         """The cells of ``p``'s ring (their indices) from which the arm's reach to ``p`` passes
         over floor item ``b``, and those ``b`` stands on (within the bare footprint's radius):
-        indices, not a flag per cell, since most of a ring's ~380 cells touch no given item."""
-        key = (p.xy, b)
+        indices, not a flag per cell, since most of a ring's ~380 cells touch no given item.
+        ``b_key``: ``box_key(b)``, the pair's key."""
+        key = (p.xy, b_key)
         hit = self._pairs.get(key)
         if hit is None:
             xy = self._ring_array(p.xy)
-            # _crosses' own first test, for the whole ring at once: segments apart from b's
+            # crosses' own first test, for the whole ring at once: segments apart from b's
             # footprint along x or y cannot cross it
             hx, hy = b.sx / 2, b.sy / 2
             apart = (
@@ -335,7 +441,7 @@ class GraspPoses:
                 | (np.maximum(xy[:, 1], p.y) < b.cy - hy)
                 | (np.minimum(xy[:, 1], p.y) > b.cy + hy)
             )
-            cross = np.array(_crossing_cells(ring, np.nonzero(~apart)[0], p.xy, b), dtype=np.int64)
+            cross = np.array(crossing_cells(ring, np.nonzero(~apart)[0], p.xy, b), dtype=np.int64)
             # the cells b stands on: numpy decides the clear cases, Box.clearance those within
             # 1e-9 m of the radius (its verdict is the rule, as in the grids' masks)
             d = np.hypot(
@@ -343,10 +449,10 @@ class GraspPoses:
                 np.maximum(np.abs(xy[:, 1] - b.cy) - b.sy / 2, 0.0),
             )
             r = self.room.bare_radius
-            under = np.array(
-                [k for k in np.nonzero(d < r + 1e-9)[0] if d[k] < r - 1e-9 or b.clearance(*ring[k]) < r],
-                dtype=np.int64,
-            )
+            under = np.nonzero(d < r + 1e-9)[0]
+            border = under[d[under] >= r - 1e-9]
+            if len(border):
+                under = np.setdiff1d(under, [k for k in border.tolist() if b.clearance(*ring[k]) >= r])
             if len(self._pairs) > 65_536:  # pairs of items near each other, over a mission
                 self._pairs.clear()
             hit = self._pairs[key] = (cross, under)
@@ -354,148 +460,3 @@ class GraspPoses:
 
 
 _LATER = object()  # in GraspPoses._poses: not reached now, the wider key decides
-
-
-class _Blockers:
-    """The floor items a grasp from each cell of a ring waits for: their count per cell (an
-    array, read for every cell) and their names (asked for the chosen cell only: building a
-    list per cell was a fifth of choosing a pose)."""
-
-    def __init__(self, cells: int) -> None:
-        self.count = np.zeros(cells, dtype=np.int64)
-        self._by: list[tuple[str, np.ndarray, np.ndarray]] = []  # (item, cells crossed, stood on)
-        self._key: tuple | None = None  # key's, once asked (no add after)
-
-    def add(self, name: str, crosses: np.ndarray, under: np.ndarray) -> None:
-        """Floor item ``name`` crosses the reach from ``crosses`` and stands on ``under``."""
-        if len(crosses) or len(under):
-            self.count[crosses] += 1
-            self.count[under] += 1
-            self._by.append((name, crosses, under))
-
-    @property
-    def key(self) -> tuple:
-        """What the cells wait for, as a key: the same key, the same counts and names."""
-        if self._key is None:
-            self._key = tuple((n, c.tobytes(), u.tobytes()) for n, c, u in self._by)
-        return self._key
-
-    def names(self, k: int) -> tuple[str, ...]:
-        """The items cell ``k`` waits for: those crossing its reach, then those standing on it,
-        each in the floor's order."""
-        return tuple(n for n, c, _ in self._by if k in c) + tuple(n for n, _, u in self._by if k in u)
-
-
-class _Reach:
-    """The cell centres the robot reaches from ``origin`` (``free_cells(reachable_from=origin)``
-    as a set), asked one at a time: a cell's component, not the component's list."""
-
-    def __init__(self, nav: OccupancyGrid, origin: Point) -> None:
-        self._nav, self._origin, self._label = nav, origin, nav.component(*origin)
-
-    def __contains__(self, c: Point) -> bool:
-        return self._label != 0 and self._nav.component(*c) == self._label
-
-    def mask(self, points: np.ndarray) -> np.ndarray:
-        """``__contains__`` for each of ``points`` ((n, 2)) at once."""
-        if self._label == 0:
-            return np.zeros(len(points), dtype=bool)
-        return self._nav.reaches(points, self._origin)
-
-
-class _Taken:
-    """The grasp and adjustment poses chosen so far in one ``facts``, by 1 m square: which lie
-    near an item is a look at the squares around it, not at every pose of the room."""
-
-    def __init__(self) -> None:
-        self._squares: dict[tuple[int, int], list[Point]] = {}
-
-    def add(self, q: Point) -> None:
-        self._squares.setdefault((math.floor(q[0]), math.floor(q[1])), []).append(q)
-
-    def near(self, at: Point, r: float) -> list[Point]:
-        """The poses within ``r`` of ``at`` (and maybe a few more: the squares' corners)."""
-        out = []
-        for i in range(math.floor(at[0] - r), math.floor(at[0] + r) + 1):
-            for j in range(math.floor(at[1] - r), math.floor(at[1] + r) + 1):
-                out += self._squares.get((i, j), ())
-        return out
-
-
-def _best(cells: np.ndarray, rank: np.ndarray) -> int:
-    """The index of the best-ranked (lowest) of the ``cells`` marked True (some are)."""
-    return int(np.argmin(np.where(cells, rank, np.iinfo(np.int64).max)))
-
-
-def _near_boxes(boxes: np.ndarray, xy: Point, within: float) -> np.ndarray:
-    """Indices, in order, of the boxes (cx, cy, half sx, half sy) that may lie within ``within``
-    of ``xy``: a superset of ``Box.clearance``'s verdict (1e-9 m to spare), which decides."""
-    if not len(boxes):
-        return np.zeros(0, dtype=int)
-    dx = np.maximum(np.abs(xy[0] - boxes[:, 0]) - boxes[:, 2], 0.0)
-    dy = np.maximum(np.abs(xy[1] - boxes[:, 1]) - boxes[:, 3], 0.0)
-    return np.nonzero(np.hypot(dx, dy) <= within + 1e-9)[0]
-
-
-def _apart(cells, points: list[Point], gap: float, axis: int = 1) -> np.ndarray:
-    """Which of ``cells`` are at least ``gap`` from every one of ``points`` (``axis`` 0: which of
-    ``points`` are at least ``gap`` from every cell): math.dist's verdict (numpy decides the
-    clear cases, math.dist those within 1e-9 m of the gap, as in _ring)."""
-    if not len(cells) or not len(points):
-        return np.ones(len(cells) if axis == 1 else len(points), dtype=bool)
-    c, q = np.asarray(cells, dtype=float), np.asarray(points, dtype=float)
-    d = np.hypot(c[:, None, 0] - q[None, :, 0], c[:, None, 1] - q[None, :, 1])
-    keep = (d >= gap + 1e-9).all(axis=axis)
-    for k in np.nonzero(~keep & (d >= gap - 1e-9).all(axis=axis))[0]:
-        if axis == 1:
-            keep[k] = all(math.dist(tuple(c[k]), tuple(x)) >= gap for x in q)
-        else:
-            keep[k] = all(math.dist(tuple(x), tuple(q[k])) >= gap for x in c)
-    return keep
-
-
-def straight(grid: OccupancyGrid, a: Point, b: Point, step: float = 0.05) -> bool:
-    """Whether the straight segment a-b runs over free cells only (sampled every ``step``)."""
-    n = max(1, math.ceil(math.dist(a, b) / step))
-    return all(grid.free(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) for k in range(n + 1))
-
-
-def _crossing_cells(ring: list[Point], cells: np.ndarray, at: Point, box: Box) -> tuple[int, ...]:
-    """Of ``cells`` (indices into ``ring``), those whose segment to ``at`` passes over the box:
-    ``_crosses``' samples for all of them at once (the same sums in the same order, so the
-    same points; a sample is on the footprint when neither of its distances along x and y
-    from the box's sides is positive, which is ``Box.clearance(...) == 0``)."""
-    if not len(cells):
-        return ()
-    a = np.array([ring[k] for k in cells], dtype=float)
-    n = np.array([max(2, int(math.dist(ring[k], at) / 0.02)) for k in cells], dtype=np.int64)
-    counts = n + 1
-    starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
-    j = (np.arange(int(counts.sum())) - np.repeat(starts, counts)).astype(float)
-    ax, ay, nn = np.repeat(a[:, 0], counts), np.repeat(a[:, 1], counts), np.repeat(n, counts).astype(float)
-    x = ax + (at[0] - ax) * j / nn
-    y = ay + (at[1] - ay) * j / nn
-    on = (np.abs(x - box.cx) - box.sx / 2 <= 0.0) & (np.abs(y - box.cy) - box.sy / 2 <= 0.0)
-    hit = np.logical_or.reduceat(on, starts)
-    return tuple(int(k) for k, h in zip(cells, hit, strict=True) if h)
-
-
-def _crosses(a: Point, b: Point, box: Box) -> bool:
-    """Whether segment a-b passes over the box's footprint (sampled every 2 cm)."""
-    hx, hy = box.sx / 2, box.sy / 2
-    if (
-        max(a[0], b[0]) < box.cx - hx
-        or min(a[0], b[0]) > box.cx + hx
-        or max(a[1], b[1]) < box.cy - hy
-        or min(a[1], b[1]) > box.cy + hy
-    ):
-        return False  # apart: no sample can fall on it (most boxes near an item, most segments)
-    n = max(2, int(math.dist(a, b) / 0.02))
-    return any(
-        box.clearance(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) == 0.0 for k in range(n + 1)
-    )
-
-
-def box_key(b: Box) -> tuple:
-    """A box as a plain tuple: for sorting, and for keys (C's hashing, not a dataclass's)."""
-    return (b.cx, b.cy, b.sx, b.sy, b.name)

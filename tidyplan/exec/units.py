@@ -19,9 +19,10 @@ from __future__ import annotations
 
 import math
 
-from tidyplan.belief.grasp import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN, straight
+from tidyplan.belief.grasp import ADJUST_MAX, GRASP_BEST, GRASP_MAX, GRASP_MIN
 from tidyplan.belief.mapfacts import deposit_waypoint
 from tidyplan.belief.percepts import SWEEP_STOPS
+from tidyplan.belief.ring import straight
 from tidyplan.exec.catalogue import (
     ADJUST_BASE,
     ADJUST_POSE,
