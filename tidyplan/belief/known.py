@@ -34,9 +34,25 @@ class Known:
     # a pose known to show it, for the looks after it is forgotten
     seen_from: list[Point] = field(default_factory=list)
     seen_look: int = -1  # the belief's look (``Belief.looks``) that last showed it
+    # the last ``placed()``: the same record while the item stays, so the belief's keys of many
+    # items compare by identity (a new record per item, several times a turn, grew with the room)
+    _placed: Placed | None = field(default=None, repr=False, compare=False)
 
     def placed(self) -> Placed:
-        return Placed(self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0)
+        p = self._placed
+        if p is None or (p.x, p.y, p.on, p.sx, p.sy, p.loose, p.category) != (
+            self.x,
+            self.y,
+            self.on,
+            self.sx,
+            self.sy,
+            self.spread > 0,
+            self.category,
+        ):
+            p = self._placed = Placed(
+                self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0
+            )
+        return p
 
     def saw(self, at: Point, look: int) -> None:
         """Remember that look number ``look``, from ``at``, showed it (the last SEEN_FROM_KEPT
