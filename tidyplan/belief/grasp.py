@@ -55,7 +55,7 @@ class GraspPoses:
         self.room = room
         self._out: tuple[Box, ...] = ()  # the open drawers' boxes, set by choose()
         self._origin: Point = room.entrance  # where the robot reaches from, set by choose()
-        self._bare_cells: tuple[list[Point], np.ndarray] | None = None  # for _ring
+        self._bare: OccupancyGrid | None = None  # the bare map without floor items, for _ring
         self._rings: dict[Point, list[Point]] = {}  # _ring's answers, by item position
         self._pairs: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}  # _pair's answers
         self._crossings: dict[tuple, Blockers] = {}  # _crossing's answers, by item and floor near it
@@ -354,11 +354,9 @@ class GraspPoses:
         """The ring's cells as flat indices of the room's grids (all share bounds and cells)."""
         hit = self._ring_flat.get(at)
         if hit is None:
-            if len(self._ring_flat) > 4096:
-                self._ring_flat.clear()
-            static = self.room.grid(())
-            cells = [static.cell(*c) for c in self._ring(at)]
-            hit = self._ring_flat[at] = np.array([i * static.shape[1] + j for i, j in cells], dtype=np.int64)
+            self._rings.pop(at, None)
+            self._ring(at)  # works them out with the ring
+            hit = self._ring_flat[at]
         return hit
 
     def _ring_index(self, at: Point) -> dict[Point, int]:
@@ -393,7 +391,9 @@ class GraspPoses:
             if len(self._orders) > 4096:
                 self._orders.clear()
             ring = self._ring(at)
-            by = sorted(range(len(ring)), key=lambda k: (abs(math.dist(ring[k], at) - GRASP_BEST), ring[k]))
+            xy = self._ring_array(at)
+            off = [abs(math.dist(c, at) - GRASP_BEST) for c in ring]
+            by = np.lexsort((xy[:, 1], xy[:, 0], np.array(off, dtype=float)))  # off, then x, then y
             hit = self._orders[at] = np.empty(len(ring), dtype=np.int64)
             hit[by] = np.arange(len(ring))
         return hit
@@ -408,9 +408,33 @@ class GraspPoses:
 
     def _ring(self, at: Point) -> list[Point]:
         """The bare map's free cells within the arm's reach of ``at`` (GRASP_MIN to GRASP_MAX), in
-        cell order: one array test, not a loop over the room's ten thousand cells per item."""
+        cell order: one array test over the cells of the square around ``at`` (over the room's
+        every free cell, a new item's ring grew with the room)."""
         if at in self._rings:
             return self._rings[at]
+        if self._bare is None:
+            self._bare = self.room.grid((), bare=True)
+        bare, r = self._bare, GRASP_MAX + self._bare.cell_size
+        i0, j0 = bare.cell(at[0] - r, at[1] - r)
+        i1, j1 = bare.cell(at[0] + r, at[1] + r)
+        i0, j0 = max(i0, 0), max(j0, 0)
+        ii, jj = np.nonzero(bare.mask[i0 : i1 + 1, j0 : j1 + 1])
+        # the cells' centres as OccupancyGrid.xy gives them (the same sums), in cell order
+        x0, _x1, y0, _y1 = bare.bounds
+        xs, ys = x0 + (ii + i0 + 0.5) * bare.cell_size, y0 + (jj + j0 + 0.5) * bare.cell_size
+        d = np.hypot(xs - at[0], ys - at[1])
+        # the same float test as math.dist, so a cell on the ring's edge stays in or out as before
+        near = np.nonzero((d >= GRASP_MIN - 1e-9) & (d <= GRASP_MAX + 1e-9))[0]
+        if len(self._rings) > 4096:  # a mission's items and where they were seen
+            self._rings.clear()
+            self._ring_flat.clear()
+        cells = zip(xs[near].tolist(), ys[near].tolist(), strict=True)
+        kept = [k for k, c in enumerate(cells) if GRASP_MIN <= math.dist(c, at) <= GRASP_MAX]
+        near = near[kept]
+        self._rings[at] = list(zip(xs[near].tolist(), ys[near].tolist(), strict=True))
+        # and as flat indices of the room's grids (all share bounds and cells)
+        self._ring_flat[at] = (ii[near] + i0) * bare.shape[1] + (jj[near] + j0)
+        return self._rings[at]
         if self._bare_cells is None:
             cells = self.room.grid((), bare=True).free_cells()
             self._bare_cells = (cells, np.array(cells, dtype=float).reshape(-1, 2))
@@ -441,7 +465,7 @@ class GraspPoses:
                 | (np.maximum(xy[:, 1], p.y) < b.cy - hy)
                 | (np.minimum(xy[:, 1], p.y) > b.cy + hy)
             )
-            cross = np.array(crossing_cells(ring, np.nonzero(~apart)[0], p.xy, b), dtype=np.int64)
+            cross = crossing_cells(xy, np.nonzero(~apart)[0], p.xy, b)
             # the cells b stands on: numpy decides the clear cases, Box.clearance those within
             # 1e-9 m of the radius (its verdict is the rule, as in the grids' masks)
             d = np.hypot(

@@ -122,15 +122,23 @@ def straight(grid: OccupancyGrid, a: Point, b: Point, step: float = 0.05) -> boo
     return all(grid.free(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) for k in range(n + 1))
 
 
-def crossing_cells(ring: list[Point], cells: np.ndarray, at: Point, box: Box) -> tuple[int, ...]:
-    """Of ``cells`` (indices into ``ring``), those whose segment to ``at`` passes over the box:
-    ``crosses``' samples for all of them at once (the same sums in the same order, so the
-    same points; a sample is on the footprint when neither of its distances along x and y
-    from the box's sides is positive, which is ``Box.clearance(...) == 0``)."""
+def crossing_cells(ring: np.ndarray, cells: np.ndarray, at: Point, box: Box) -> np.ndarray:
+    """Of ``cells`` (indices into ``ring``, an (n, 2) array of cell centres), those whose segment
+    to ``at`` passes over the box: ``crosses``' samples for all of them at once (the same sums in
+    the same order, so the same points; a sample is on the footprint when neither of its
+    distances along x and y from the box's sides is positive, which is
+    ``Box.clearance(...) == 0``)."""
+    cells = np.asarray(cells, dtype=np.int64)
     if not len(cells):
-        return ()
-    a = np.array([ring[k] for k in cells], dtype=float)
-    n = np.array([max(2, int(math.dist(ring[k], at) / 0.02)) for k in cells], dtype=np.int64)
+        return cells
+    a = ring[cells]
+    # samples per segment as crosses counts them (math.dist's length; numpy's where no whole
+    # number of 2 cm steps lies within 1e-9 of it, math.dist's where one may)
+    steps = np.hypot(a[:, 0] - at[0], a[:, 1] - at[1]) / 0.02
+    n = np.floor(steps).astype(np.int64)
+    for k in np.nonzero(np.abs(steps - np.round(steps)) < 1e-9)[0].tolist():
+        n[k] = int(math.dist(tuple(a[k]), at) / 0.02)
+    n = np.maximum(n, 2)
     counts = n + 1
     starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
     j = (np.arange(int(counts.sum())) - np.repeat(starts, counts)).astype(float)
@@ -138,8 +146,7 @@ def crossing_cells(ring: list[Point], cells: np.ndarray, at: Point, box: Box) ->
     x = ax + (at[0] - ax) * j / nn
     y = ay + (at[1] - ay) * j / nn
     on = (np.abs(x - box.cx) - box.sx / 2 <= 0.0) & (np.abs(y - box.cy) - box.sy / 2 <= 0.0)
-    hit = np.logical_or.reduceat(on, starts)
-    return tuple(int(k) for k, h in zip(cells, hit, strict=True) if h)
+    return cells[np.logical_or.reduceat(on, starts)]
 
 
 def crosses(a: Point, b: Point, box: Box) -> bool:
