@@ -115,3 +115,30 @@ def test_poses_kept_from_the_last_choice_are_a_fresh_maps_on_a_crowded_floor(see
         kinds.update({"waits": len(got.reach_blockers), "all": len(got.grasp)})
     # the floor is of the kind meant: some poses wait for floor items
     assert kinds["waits"], kinds
+
+
+def test_a_ring_is_the_free_cells_in_reach_in_cell_order_ranked_as_a_sort_ranks_them():
+    """A ring worked out from the square around its item is the bare map's free cells within
+    reach, in cell order, with their flat indices; its ranks are a sort by the distance from
+    the comfortable reach, then by cell: for random points and every item of two rooms."""
+    import math
+
+    import numpy as np
+
+    from tidyplan.belief.grasp import GRASP_BEST, GRASP_MAX, GRASP_MIN
+
+    for seed in (0, 1):
+        scenario = generate("two", seed, per_room=6)
+        room = RoomMap(scenario)
+        free = room.grid((), bare=True).free_cells()
+        static = room.grid(())
+        rng = random.Random(seed)
+        x0, x1, y0, y1 = scenario.bounds
+        points = [(rng.uniform(x0 - 0.3, x1 + 0.3), rng.uniform(y0 - 0.3, y1 + 0.3)) for _ in range(60)]
+        for at in points + [(i.x, i.y) for i in scenario.items]:
+            want = [c for c in free if GRASP_MIN <= math.dist(c, at) <= GRASP_MAX]
+            assert room.grasps._ring(at) == want
+            flat = [static.cell(*c)[0] * static.shape[1] + static.cell(*c)[1] for c in want]
+            assert room.grasps._ring_cells(at).tolist() == flat
+            by = sorted(range(len(want)), key=lambda k: (abs(math.dist(want[k], at) - GRASP_BEST), want[k]))
+            assert [int(k) for k in np.argsort(room.grasps._order(at))] == by
