@@ -98,7 +98,8 @@ class GraspPoses:
         # An item whose floor near it, ring reach, kept and avoided poses, poses taken near it
         # and (if not reached now) part of the room are as at the last choice keeps its
         # answer without a key: only the items near what changed are looked at (a key for
-        # every item of the room, each new floor, was a third of the choice at 96 objects)
+        # every item of the room, each new floor, was a third of the choice at 96 objects).
+        # "Near" is what the key reads: a floor item over the ring, a pose within 0.1 m of it.
         reach = nav.reaches_cells(np.arange(nav.shape[0] * nav.shape[1]), origin)
         stale = self._stale(items, set(box_keys), out, reach, nav)
         last = self._last[3] if self._last is not None else {}
@@ -115,7 +116,7 @@ class GraspPoses:
                 and not stale[i]
                 and was[4][0] < 3
                 and was[:3] == (p, previous, tuple(bad))
-                and not moved.near(p.xy, TAKEN_NEAR)
+                and not any(self._rules_out(p.xy, q) for q in moved.near(p.xy, TAKEN_NEAR))
                 and (was[4][0] == 1 or self._room_of(p, static) == was[4][1])
             ):
                 one, level = was[3], was[4]
@@ -186,18 +187,27 @@ class GraspPoses:
 
     def _stale(self, items: list[Placed], floor: set, out: tuple, reach: np.ndarray, nav: OccupancyGrid):
         """For each item, whether something its pose (if reached now) depends on may have
-        changed since the last choice: a floor item near it come or gone, a cell of its ring
-        reached then and not now or the other way. (The item itself, its kept and avoided
+        changed since the last choice: a floor item come or gone that crosses a reach from its
+        ring or stands on a cell of it, a cell of its ring reached then and not now or the other
+        way. (The item itself, its kept and avoided
         poses and the poses taken near it, ``choose`` compares.)"""
         if self._last is None or self._last[1] != out or self._last[2].shape != reach.shape:
             return np.ones(len(items), dtype=bool)
         xy = np.array([p.xy for p in items], dtype=float).reshape(-1, 2)
         stale = np.zeros(len(items), dtype=bool)
-        changed = np.array([(b[0], b[1], b[2] / 2, b[3] / 2) for b in floor ^ self._last[0]], dtype=float)
+        keys = sorted(floor ^ self._last[0])
+        changed = np.array([(b[0], b[1], b[2] / 2, b[3] / 2) for b in keys], dtype=float)
         if len(changed):  # near_boxes' test, for every item and changed box at once
             dx = np.maximum(np.abs(xy[:, None, 0] - changed[None, :, 0]) - changed[None, :, 2], 0.0)
             dy = np.maximum(np.abs(xy[:, None, 1] - changed[None, :, 1]) - changed[None, :, 3], 0.0)
-            stale |= (np.hypot(dx, dy) <= GRASP_MAX + self.room.bare_radius + 0.03 + 1e-9).any(axis=1)
+            near = np.hypot(dx, dy) <= GRASP_MAX + self.room.bare_radius + 0.03 + 1e-9
+            # one that neither crosses a reach from the ring nor stands on a cell of it (where
+            # the bare grid has it cover the cell: the same test) changes nothing of the choice
+            for i, j in zip(*np.nonzero(near), strict=True):
+                p = items[i]
+                if not stale[i] and keys[j][4] != p.name:
+                    cross, under = self._pair(p, Box(*keys[j]), keys[j], self._ring(p.xy))
+                    stale[i] = bool(len(cross) or len(under))
         flipped = (reach != self._last[2]).reshape(nav.shape)
         if flipped.any():  # the flipped cells in each ring's square (a cell to spare), summed
             sums = np.zeros((nav.shape[0] + 1, nav.shape[1] + 1), dtype=np.int64)
@@ -215,7 +225,11 @@ class GraspPoses:
             j1 = np.clip(
                 np.floor((xy[:, 1] + GRASP_MAX - y0) / nav.cell_size).astype(int) + 2, 0, nav.shape[1]
             )
-            stale |= (sums[i1, j1] - sums[i0, j1] - sums[i1, j0] + sums[i0, j0]) > 0
+            square = (sums[i1, j1] - sums[i0, j1] - sums[i1, j0] + sums[i0, j0]) > 0
+            # of those with one in the square, those with one on the ring (what the key reads)
+            flat = flipped.ravel()
+            for i in np.nonzero(square & ~stale)[0].tolist():
+                stale[i] = bool(flat[self._ring_cells(items[i].xy)].any())
         return stale
 
     def _add_grasp(
