@@ -182,3 +182,35 @@ def test_an_item_the_frames_on_the_way_showed_but_the_close_look_missed_is_taken
     belief.robot = (1.2, 1.05)  # moved (a base adjustment) since that look
     belief.not_found(toy)
     assert toy not in belief.items
+
+
+def test_the_items_not_put_away_follow_every_change_of_an_item_or_of_who_is_believed():
+    """untidied() and placed() are kept between changes; after each of seen, taken, put down,
+    moved, forgotten, put away and a field set on an item directly, they are what a sort of the
+    belief's items gives."""
+    belief, toy = _belief_with_a_puzzle()
+
+    def fresh():
+        kept = sorted((k for k in belief.items.values() if k.state != "tidied"), key=lambda k: k.name)
+        return kept, [k.placed() for k in kept if k.state == "placed"]
+
+    def same(what):
+        assert (belief.untidied(), belief.placed()) == fresh(), what
+
+    same("seen")
+    book = belief.observe([Detection("book", 0.5, 0.6, "floor", 0.1, 0.1, 0.03)], None).new[0]
+    same("a second seen")
+    belief.taken(toy)
+    same("taken")
+    belief.put(toy, 1.2, 1.1)
+    same("put down")
+    belief.relocate(book, 0.55, 0.62)
+    same("moved")
+    belief.items[book].x = 0.7  # a field set on the record itself
+    same("a field set")
+    assert belief.placed()[0].x == 0.7 or belief.placed()[1].x == 0.7
+    belief.delivered(toy, "tray")
+    same("put away")
+    belief.forget(book)
+    same("forgotten")
+    assert belief.untidied() == [] and belief.placed() == []

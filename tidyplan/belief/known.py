@@ -1,5 +1,6 @@
 """What the belief holds of one item it has seen (``Known``: its category, believed place and
-state, the looks that showed it) and what one look changed (``Update``).
+state, the looks that showed it), of them all (``Items``), and what one look changed
+(``Update``).
 ``tidyplan.belief.state.Belief`` keeps the items and updates them."""
 
 from __future__ import annotations
@@ -10,6 +11,12 @@ from dataclasses import dataclass, field
 from tidyplan.belief.mapfacts import Placed, Point
 
 SEEN_FROM_KEPT = 4  # poses an item was seen from, kept with it (Known.seen_from)
+_EDITS = [0]  # fields set on any Known so far: what the belief's views of its items are kept by
+
+
+def edits() -> int:
+    """How many times a field of any ``Known`` has been set: the same count, the same items."""
+    return _EDITS[0]
 
 
 @dataclass(slots=True)
@@ -38,6 +45,11 @@ class Known:
     # items compare by identity (a new record per item, several times a turn, grew with the room)
     _placed: Placed | None = field(default=None, repr=False, compare=False)
 
+    def __setattr__(self, name: str, value) -> None:
+        object.__setattr__(self, name, value)
+        if name != "_placed":  # a record kept, not a change
+            _EDITS[0] += 1
+
     def placed(self) -> Placed:
         p = self._placed
         if p is None or (p.x, p.y, p.on, p.sx, p.sy, p.loose, p.category) != (
@@ -61,6 +73,41 @@ class Known:
         if not self.seen_from or math.dist(self.seen_from[-1], at) > 0.1:
             self.seen_from.append((float(at[0]), float(at[1])))
             del self.seen_from[:-SEEN_FROM_KEPT]
+
+
+class Items(dict):
+    """The belief's items by name (``Belief.items``), counting the changes of who is in it
+    (``edits``): with ``edits()``, what the belief's views of its items are kept by."""
+
+    edits = 0
+
+    def __setitem__(self, name, item) -> None:
+        super().__setitem__(name, item)
+        self.edits += 1
+
+    def __delitem__(self, name) -> None:
+        super().__delitem__(name)
+        self.edits += 1
+
+    def pop(self, *args):
+        self.edits += 1
+        return super().pop(*args)
+
+    def popitem(self):
+        self.edits += 1
+        return super().popitem()
+
+    def clear(self) -> None:
+        self.edits += 1
+        super().clear()
+
+    def update(self, *args, **kwargs) -> None:
+        self.edits += 1
+        super().update(*args, **kwargs)
+
+    def setdefault(self, name, item=None):
+        self.edits += 1
+        return super().setdefault(name, item)
 
 
 @dataclass(slots=True)

@@ -34,7 +34,7 @@ from sim.visibility import GLANCE_TILT_DEG, Box3, in_frame, visible
 from tidyplan.belief import viewpoints
 from tidyplan.belief.exploration import LOST_RADIUS, Exploration
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.belief.known import Known, Update
+from tidyplan.belief.known import Items, Known, Update, edits
 from tidyplan.belief.mapfacts import ENTRANCE, MapFacts, Placed
 from tidyplan.belief.percepts import MISS_EDGE_DEG, MISS_WIDTH, SWEEP_STOPS, Detection, Frame, in_stops
 
@@ -61,7 +61,7 @@ class Belief:
         self.prior = scenario.prior_counts()  # None: told nothing, explore the whole room
         told = self.prior if self.prior is not None else {d.category for d in scenario.deposits}
         self.categories = sorted(told)
-        self.items: dict[str, Known] = {}
+        self.items: dict[str, Known] = Items()
         self.robot: Point = room.entrance
         self.robot_wp = ENTRANCE  # the waypoint the robot last reached: its name for the planner
         self.holding: str | None = None
@@ -94,6 +94,7 @@ class Belief:
         self._facts: tuple[tuple, MapFacts] | None = None
         self._focused: tuple[tuple, MapFacts] | None = None
         self._poses: tuple[tuple, MapFacts] | None = None
+        self._untidied: tuple[tuple, list[Known], list[Placed]] = ((), [], [])  # untidied()'s
         # the space seen and the viewpoints to look from; it adds the map's viewpoints now
         self.exploration = Exploration(self.scenario, room, self._occluders)
 
@@ -116,10 +117,17 @@ class Belief:
         return bool(self.exploration.p_item_near(self.poses()))
 
     def untidied(self) -> list[Known]:
-        return sorted((k for k in self.items.values() if k.state != "tidied"), key=lambda k: k.name)
+        """The items not put away, by name; kept while no item changes (asked many times a turn)."""
+        key = (edits(), self.items.edits) if isinstance(self.items, Items) else None  # (a dict: not kept)
+        if key is None or self._untidied[0] != key:
+            kept = sorted((k for k in self.items.values() if k.state != "tidied"), key=lambda k: k.name)
+            self._untidied = (key, kept, [k.placed() for k in kept if k.state == "placed"])
+        return list(self._untidied[1])
 
     def placed(self) -> list[Placed]:
-        return [k.placed() for k in self.untidied() if k.state == "placed"]
+        """Where the items not put away and not in the hand are: ``Known.placed`` of each."""
+        self.untidied()
+        return list(self._untidied[2])
 
     def facts(self, among: frozenset[str] | None = None) -> MapFacts:
         """The map's facts for the belief as it is; the monitor asks several times a step, so the
