@@ -65,7 +65,7 @@ class RoomMap:
         self._origin: Point = (0.0, 0.0)  # where reachability is counted from, set by facts()
         self._out: tuple[Box, ...] = ()  # the open drawers' boxes, set by facts()
         # least recently used last out: the static map (asked every turn) keeps its paths
-        self._grids: OrderedDict[tuple[float, frozenset[Box]], OccupancyGrid] = OrderedDict()
+        self._grids: OrderedDict[tuple[float, frozenset[tuple]], OccupancyGrid] = OrderedDict()  # box_keys
         self._floors: OrderedDict[tuple, _Floor] = OrderedDict()  # the last few floors' work
         self._lines: dict[tuple, np.ndarray] = {}  # static paths' cells, for _near_paths
         self._discs: dict[tuple, np.ndarray] = {}  # the cells near an item, for _near_paths
@@ -95,13 +95,15 @@ class RoomMap:
     def grid(self, floor: Iterable[Box], *, bare: bool = False) -> OccupancyGrid:
         """The occupancy grid with the furniture and these floor boxes, navigation or bare radius."""
         radius = self.bare_radius if bare else self.nav_radius
-        key = (radius, frozenset(floor))
+        # the boxes as plain tuples: C's hashing and comparing, not a dataclass's (several grids
+        # a turn, each a key over every floor item)
+        key = (radius, frozenset(map(box_key, floor)))
         if key in self._grids:
             self._grids.move_to_end(key)
         else:
             while len(self._grids) > 64:  # a mission sees a few dozen floors; keep memory bounded
                 self._grids.popitem(last=False)
-            boxes = tuple(f.box() for f in self.scenario.furniture) + tuple(sorted(key[1], key=box_key))
+            boxes = tuple(f.box() for f in self.scenario.furniture) + tuple(Box(*k) for k in sorted(key[1]))
             # a floor an item or two from one kept: its grid from that one's, changed there only
             near = next(
                 (
@@ -113,7 +115,8 @@ class RoomMap:
             )
             if near is not None:
                 grid, floor = near
-                self._grids[key] = grid.changed(boxes, tuple(floor - key[1]), tuple(key[1] - floor))
+                gone, new = sorted(floor - key[1]), sorted(key[1] - floor)
+                self._grids[key] = grid.changed(boxes, [Box(*k) for k in gone], [Box(*k) for k in new])
             else:
                 self._grids[key] = OccupancyGrid(self.scenario.bounds, boxes, radius=radius)
         return self._grids[key]

@@ -166,5 +166,6 @@ def crosses(a: Point, b: Point, box: Box) -> bool:
 
 
 def box_key(b: Box) -> tuple:
-    """A box as a plain tuple: for sorting, and for keys (C's hashing, not a dataclass's)."""
+    """A box as a plain tuple, its fields in order (``Box(*box_key(b)) == b``): for sorting, and
+    for keys (C's hashing, not a dataclass's)."""
     return (b.cx, b.cy, b.sx, b.sy, b.name)
