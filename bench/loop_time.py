@@ -1,17 +1,17 @@
 """The loop's own time per action, at 12, 48 and 96 objects: what monitoring costs as rooms grow.
 
-    python bench/loop_time.py [--sizes 12,48,96] [--actions 80] [--seed 0] [--out DIR]
+    python bench/loop_time.py [--sizes 12,48,96] [--actions 0] [--seed 0] [--out DIR]
 
 For each size, a symbolic mission (12: problems/case3.toml; 48 and 96: bench/wrs.py's two-room
-layout, as bench/replan.py makes them) runs for its first ``--actions`` actions (then it is
-stopped: its trace stays readable). Between one ``action`` event and the next, the wall time
-is the loop's turn: the world's motion (symbolic: bookkeeping), the look and the belief's
-update, the map's facts, the assumptions' check, the plan's simulation, and any replan. The
-replans' own seconds (their ``plan`` events' ``planning_time_s``: the map's facts for the
-problem, writing it, the planner, the commitment check) are taken out, so what is left is the
-monitoring of one action. Printed per size: its median, 90th percentile and mean, and the
-replans' median beside it. (12 objects are case III, a room of its own; ``--sizes 16,48,96``
-compares sizes in one layout.)
+layout, as bench/replan.py makes them) runs to its end, or for its first ``--actions`` actions
+when that is given (then it is stopped: its trace stays readable). Between one ``action`` event
+and the next, the wall time is the loop's turn: the world's motion (symbolic: bookkeeping), the
+look and the belief's update, the map's facts, the assumptions' check, the plan's simulation,
+and any replan. The replans' own seconds (their ``plan`` events' ``planning_time_s``: the map's
+facts for the problem, writing it, the planner, the commitment check) are taken out, so what is
+left is the monitoring of one action. Printed per size: its median, 90th percentile and mean,
+and the replans' median beside it. (12 objects are case III, a room of its own; ``--sizes
+16,48,96`` compares sizes in one layout.)
 
 Traces go under DIR (default: a new temporary folder), never over an existing file.
 """
@@ -37,7 +37,7 @@ class _Enough(Exception):
 
 def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list[float], list[float]]:
     """(the loop's own wall seconds of each turn, each replan's seconds) of a symbolic mission's
-    first ``actions`` actions."""
+    first ``actions`` actions (0: all of them)."""
     from tidyplan.loop.mission import run
     from tidyplan.loop.options import Settings
 
@@ -54,7 +54,7 @@ def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list[fl
                 own.append(event["wall_s"] - state["last"] - state["planning"])
             state["last"], state["planning"] = event["wall_s"], 0.0
             state["n"] += 1
-            if state["n"] >= actions:
+            if actions and state["n"] >= actions:
                 raise _Enough
 
     try:
@@ -67,7 +67,7 @@ def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list[fl
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="12,48,96")
-    ap.add_argument("--actions", type=int, default=80)
+    ap.add_argument("--actions", type=int, default=0, help="stop after this many (0: the whole mission)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default=None, metavar="DIR")
     args = ap.parse_args()
@@ -75,11 +75,12 @@ def main() -> int:
         sizes = [int(x) for x in args.sizes.split(",")]
     except ValueError:
         ap.exit(2, f"loop_time.py: --sizes: {args.sizes!r} is not a list of numbers\n")
-    if args.actions < 2:
-        ap.exit(2, "loop_time.py: --actions must be at least 2\n")
+    if args.actions < 0 or args.actions == 1:
+        ap.exit(2, "loop_time.py: --actions must be 0 (the whole mission) or at least 2\n")
     out = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="tidyplan-loop-time-"))
     out.mkdir(parents=True, exist_ok=True)
-    print(f"traces under {out}; the first {args.actions} actions of each mission, seed {args.seed}")
+    which = f"the first {args.actions} actions" if args.actions else "every action"
+    print(f"traces under {out}; {which} of each mission, seed {args.seed}")
     print(
         "\n| objects | turns | loop per action: median (s) | 90th percentile (s) | mean (s) | replans ",
         end="",
