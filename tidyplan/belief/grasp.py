@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from typing import Protocol
+from typing import NamedTuple, Protocol
 
 import numpy as np
 
@@ -66,9 +66,7 @@ class GraspPoses:
         self._ring_indexes: dict[Point, dict[Point, int]] = {}  # _ring_index's
         self._ring_flat: dict[Point, np.ndarray] = {}  # _ring_cells'
         self._orders: dict[Point, np.ndarray] = {}  # _order's
-        # the last choice: its floor (box_keys), open drawers, the cells reached (flat), and by
-        # item (item, pose kept, poses avoided, its grasp facts, (its level, its room): _keyed's)
-        self._last: tuple[set, tuple, np.ndarray, dict[str, tuple]] | None = None
+        self._last: _Last | None = None  # the last choice, what it was made on and its answers
 
     def choose(
         self,
@@ -102,43 +100,43 @@ class GraspPoses:
         # "Near" is what the key reads: a floor item over the ring, a pose within 0.1 m of it.
         reach = nav.reaches_cells(np.arange(nav.shape[0] * nav.shape[1]), origin)
         stale = self._stale(items, set(box_keys), out, reach, nav)
-        last = self._last[3] if self._last is not None else {}
+        last = self._last.answers if self._last is not None else {}
         moved = Taken()  # the poses of the items whose answer changed, before and after
         for name in last.keys() - {p.name for p in items}:
-            for q in last[name][3].points.values():
+            for q in last[name].facts.points.values():
                 moved.add(q)
-        answers: dict[str, tuple] = {}
+        answers: dict[str, _Answer] = {}
         for i, p in enumerate(items):
-            bad, previous = (avoid or {}).get(p.name, []), (sticky or {}).get(p.name)
+            bad, previous = tuple((avoid or {}).get(p.name, ())), (sticky or {}).get(p.name)
             was = last.get(p.name)
             if (
                 was is not None
                 and not stale[i]
-                and was[4][0] < 3
-                and was[:3] == (p, previous, tuple(bad))
+                and was.level < 3
+                and (was.item, was.kept, was.avoided) == (p, previous, bad)
                 and not any(self._rules_out(p.xy, q) for q in moved.near(p.xy, TAKEN_NEAR))
-                and (was[4][0] == 1 or self._room_of(p, static) == was[4][1])
+                and (was.level == 1 or self._room_of(p, static) == was.room)
             ):
-                one, level = was[3], was[4]
+                answer = was
             else:
-                one, level = self._keyed(
+                answer = self._keyed(
                     p, floor, box_keys, boxes, nav, static, bare, reachable, previous, bad, taken
                 )
-                if was is None or was[3].points != one.points:
-                    for q in (*(was[3].points.values() if was else ()), *one.points.values()):
+                if was is None or was.facts.points != answer.facts.points:
+                    for q in (*(was.facts.points.values() if was else ()), *answer.facts.points.values()):
                         moved.add(q)
-            answers[p.name] = (p, previous, tuple(bad), one, level)
-            chosen.add_poses(one)
-            for q in one.points.values():
+            answers[p.name] = answer
+            chosen.add_poses(answer.facts)
+            for q in answer.facts.points.values():
                 taken.add(q)
-        self._last = (set(box_keys), out, reach, answers)
+        self._last = _Last(set(box_keys), out, reach, answers)
         return chosen
 
-    def _keyed(self, p, floor, box_keys, boxes, nav, static, bare, reachable, previous, bad, taken) -> tuple:
+    def _keyed(
+        self, p, floor, box_keys, boxes, nav, static, bare, reachable, previous, bad, taken
+    ) -> _Answer:
         """``p``'s grasp facts by what they depend on (chosen anew only for a key not met before),
-        and (level, room): reached now (level 1: the answer depends on the ring's reach alone),
-        once other floor items are cleared (2: and on ``room``, the robot's part of the room),
-        or by a pose adjustment or not at all (3: and on the room around the ring)."""
+        and what beyond the ring they depend on (``_Answer.level``)."""
         # the floor items that can cross the reach from a ring cell, stand on one, or
         # take one from the bare footprint: within the reach and the base's radius
         within = near_boxes(boxes, p.xy, GRASP_MAX + self.room.bare_radius + 0.03)
@@ -181,9 +179,9 @@ class GraspPoses:
                     self._poses[k] = _LATER
                     k = (*k, *part)
                 self._poses[k] = one
-            key = k
-        # reached now (1), in its part of the room (2: that room), or the room around it (3)
-        return one, (1 if len(key) == 8 else 2 if len(key) == 9 else 3, room)
+            return _Answer(p, previous, tuple(bad), one, 1 + len(beyond), room)
+        # found: its key's length says how far beyond the ring it looked
+        return _Answer(p, previous, tuple(bad), one, 1 if len(key) == 8 else 2 if len(key) == 9 else 3, room)
 
     def _stale(self, items: list[Placed], floor: set, out: tuple, reach: np.ndarray, nav: OccupancyGrid):
         """For each item, whether something its pose (if reached now) depends on may have
@@ -191,11 +189,11 @@ class GraspPoses:
         ring or stands on a cell of it, a cell of its ring reached then and not now or the other
         way. (The item itself, its kept and avoided
         poses and the poses taken near it, ``choose`` compares.)"""
-        if self._last is None or self._last[1] != out or self._last[2].shape != reach.shape:
+        if self._last is None or self._last.out != out or self._last.reach.shape != reach.shape:
             return np.ones(len(items), dtype=bool)
         xy = np.array([p.xy for p in items], dtype=float).reshape(-1, 2)
         stale = np.zeros(len(items), dtype=bool)
-        keys = sorted(floor ^ self._last[0])
+        keys = sorted(floor ^ self._last.floor)
         changed = np.array([(b[0], b[1], b[2] / 2, b[3] / 2) for b in keys], dtype=float)
         if len(changed):  # near_boxes' test, for every item and changed box at once
             dx = np.maximum(np.abs(xy[:, None, 0] - changed[None, :, 0]) - changed[None, :, 2], 0.0)
@@ -208,7 +206,7 @@ class GraspPoses:
                 if not stale[i] and keys[j][4] != p.name:
                     cross, under = self._pair(p, Box(*keys[j]), keys[j], self._ring(p.xy))
                     stale[i] = bool(len(cross) or len(under))
-        flipped = (reach != self._last[2]).reshape(nav.shape)
+        flipped = (reach != self._last.reach).reshape(nav.shape)
         if flipped.any():  # the flipped cells in each ring's square (a cell to spare), summed
             sums = np.zeros((nav.shape[0] + 1, nav.shape[1] + 1), dtype=np.int64)
             sums[1:, 1:] = flipped.cumsum(axis=0).cumsum(axis=1)
@@ -498,3 +496,27 @@ class GraspPoses:
 
 
 _LATER = object()  # in GraspPoses._poses: not reached now, the wider key decides
+
+
+class _Answer(NamedTuple):
+    """One item's grasp facts in a choice, and what they were chosen from beyond the floor."""
+
+    item: Placed
+    kept: Point | None  # the pose kept from before (sticky)
+    avoided: tuple[Point, ...]
+    facts: MapFacts
+    # reached now (1: the answer depends on the ring's reach alone), once other floor items are
+    # cleared (2: and on ``room``, the robot's part of the room with only the item on the floor),
+    # or by a pose adjustment or not at all (3: and on the room around the ring)
+    level: int
+    room: int | None
+
+
+class _Last(NamedTuple):
+    """A choice: the floor it was made on (``box_key``s), the open drawers, the cells the robot
+    reached (flat), and each item's answer."""
+
+    floor: set
+    out: tuple
+    reach: np.ndarray
+    answers: dict[str, _Answer]
