@@ -52,7 +52,7 @@ class Known:
 
     def placed(self) -> Placed:
         p = self._placed
-        if p is None or (p.x, p.y, p.on, p.sx, p.sy, p.loose, p.category) != (
+        if p is None or (p.x, p.y, p.on, p.sx, p.sy, p.loose, p.category, p.name) != (
             self.x,
             self.y,
             self.on,
@@ -60,6 +60,7 @@ class Known:
             self.sy,
             self.spread > 0,
             self.category,
+            self.name,
         ):
             p = self._placed = Placed(
                 self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0

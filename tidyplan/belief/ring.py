@@ -45,21 +45,18 @@ class Blockers:
 
 
 class Reach:
-    """The cell centres the robot reaches from ``origin`` (``free_cells(reachable_from=origin)``
-    as a set), asked one at a time: a cell's component, not the component's list."""
+    """Which cells the robot reaches from ``origin`` (``free_cells(reachable_from=origin)``'s),
+    asked for a ring's at once: their components, not the component's list."""
 
     def __init__(self, nav: OccupancyGrid, origin: Point) -> None:
         self._nav, self._origin, self._label = nav, origin, nav.component(*origin)
-
-    def __contains__(self, c: Point) -> bool:
-        return self._label != 0 and self._nav.component(*c) == self._label
 
     def cells(self, flat: np.ndarray) -> bytes:
         """Which of the cells (flat indices) the robot reaches, as a key."""
         return self._nav.reaches_cells(flat, self._origin).tobytes()
 
     def mask(self, points: np.ndarray) -> np.ndarray:
-        """``__contains__`` for each of ``points`` ((n, 2)) at once."""
+        """Whether the robot reaches each of ``points`` ((n, 2)), at once."""
         if self._label == 0:
             return np.zeros(len(points), dtype=bool)
         return self._nav.reaches(points, self._origin)
