@@ -187,8 +187,8 @@ class GraspPoses:
         """For each item, whether something its pose (if reached now) depends on may have
         changed since the last choice: a floor item come or gone that crosses a reach from its
         ring or stands on a cell of it, a cell of its ring reached then and not now or the other
-        way. (The item itself, its kept and avoided
-        poses and the poses taken near it, ``choose`` compares.)"""
+        way. (The item itself, its kept and avoided poses and the poses taken near it,
+        ``choose`` compares.)"""
         if self._last is None or self._last.out != out or self._last.reach.shape != reach.shape:
             return np.ones(len(items), dtype=bool)
         xy = np.array([p.xy for p in items], dtype=float).reshape(-1, 2)
@@ -240,7 +240,7 @@ class GraspPoses:
         bare: OccupancyGrid,
         reachable: Reach,
         previous: Point | None,
-        avoid: list[Point],
+        avoid: tuple[Point, ...],
         others: tuple[Point, ...],
     ) -> int:
         """Choose where the robot stands to grasp ``p``: a pose the navigation grid reaches now,
