@@ -94,7 +94,7 @@ def test_a_forgotten_item_is_looked_for_from_where_it_is_in_sight_not_behind_a_t
     # view but the box itself was behind the table, and three rounds looked from there in vain
     from sim.visibility import Box3, visible
     from tidyplan.belief import viewpoints
-    from tidyplan.belief.state import FORGOTTEN_FROM
+    from tidyplan.belief.revisit import FORGOTTEN_FROM
     from tidyplan.generate.rooms import generate
 
     scenario = generate("task1", 106)
@@ -142,7 +142,7 @@ def test_a_forgotten_item_is_looked_for_first_from_where_a_look_once_showed_it()
         belief.forget(name)
         belief.exploration.seen[:] = True
         added = [v for v in belief.explore_again() if belief.exploration.at_forgotten.get(v) == name]
-        return belief, belief.items.get(name) or belief._forgotten[name], added
+        return belief, belief.items.get(name) or belief.forgotten[name], added
 
     # seen from the entrance (too far to show it again): the nearest cell that shows it
     belief, known, added = forgotten_from(scenario.entrance)

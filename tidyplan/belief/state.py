@@ -31,7 +31,7 @@ import numpy as np
 from sim.grid import Box
 from sim.scenario.model import DrawerLayout, Scenario, drawer_layout, out_boxes
 from sim.visibility import GLANCE_TILT_DEG, Box3, in_frame, visible
-from tidyplan.belief import viewpoints
+from tidyplan.belief import revisit
 from tidyplan.belief.exploration import LOST_RADIUS, Exploration
 from tidyplan.belief.geometry import RoomMap
 from tidyplan.belief.known import Items, Known, Update, edits
@@ -47,8 +47,6 @@ FORGET_AFTER = 3  # looks in a row that should have seen an item and did not: it
 # m: a confirmed item seen this far from where it was believed has been moved there (and the grasp
 # pose kept for its old place is chosen again)
 MOVED = 0.03
-FORGOTTEN_FROM = 0.9  # m: the nearest a viewpoint at a forgotten item's place stands (a sweep's floor
-# frame starts about 0.6 m out)
 
 
 class Belief:
@@ -88,7 +86,7 @@ class Belief:
         self._serial: Counter[str] = Counter()
         self.looks = 0  # sweeps and frames taken into the belief so far
         self.arrived: tuple[int, Point] = (0, self.robot)  # (looks, where) when a drive last ended
-        self._forgotten: dict[str, Known] = {}  # seen again near where it was: same name
+        self.forgotten: dict[str, Known] = {}  # seen again near where it was: same name
         self._occluders = [Box3.from_furniture(f) for f in scenario.furniture]
         # the last answers of facts (whole, among some waypoints) and poses, by what they depend on
         self._facts: tuple[tuple, MapFacts] | None = None
@@ -310,7 +308,7 @@ class Belief:
         """An item believed in a place that is not there (a false detection, or it moved)."""
         k = self.items.pop(name, None)
         if k is not None:
-            self._forgotten[name] = k
+            self.forgotten[name] = k
         self.sticky.pop(name, None)
 
     def lost(self, name: str) -> None:
@@ -452,9 +450,9 @@ class Belief:
 
     def _revive(self, d: Detection) -> str | None:
         """The name of a forgotten item of this category that lay where d is, if any."""
-        for name, k in sorted(self._forgotten.items()):
+        for name, k in sorted(self.forgotten.items()):
             if k.category == d.category and math.dist((k.x, k.y), (d.x, d.y)) <= SAME_ITEM:
-                del self._forgotten[name]
+                del self.forgotten[name]
                 return name
         return None
 
@@ -547,57 +545,7 @@ class Belief:
         if added is None:
             return None
         self._forget_facts()  # the map has new viewpoints
-        return added + self._viewpoints_at_forgotten()
-
-    def _viewpoints_at_forgotten(self) -> list[str]:
-        """A viewpoint close to where each forgotten item of a category the prior still misses
-        was last believed: the likeliest place for it, and one the looks that forgot it may have
-        had hidden (the belief's boxes occlude less than the world's furniture: wrs-task1-s007, a
-        shape seen three times beside a tall table, then missed by three frames and forgotten,
-        and never seen again from the viewpoints, whose cover of the map said they showed it).
-        Each round one more, from another side, not near a viewpoint that shows it, and from which the
-        item itself would be seen there (``should_see``: not a cell that sees only the floor
-        around it, over a table that hides it): the latest pose it was seen from, else the free
-        cell nearest the place at least FORGOTTEN_FROM m from it. In wrs-task1-s106 a box behind
-        a tall table, between a chair and two walls, was in sight of no cell near it but from
-        the pose its first sweep found it from."""
-        if self.prior is None:
-            return []
-        have = Counter(k.category for k in self.items.values())
-        lacking = {c for c in self.categories if self.prior[c] > have[c]}
-        taken = self.exploration.taken()
-        grid = self.room.grid(())
-        cells = viewpoints.lattice(grid.free_cells(reachable_from=self.room.entrance), 0.2)
-        names = []
-        boxes = self.item_boxes()
-        for name, k in sorted(self._forgotten.items()):
-            if k.category not in lacking or name in self.items:
-                continue
-            # near a viewpoint that shows it there is no new one; beside one too close to show it
-            # (the camera cannot look that far down) there may be
-            showing = [q for q in taken if self.should_see(k, q, boxes)]
-            shown = [
-                grid.nearest_free(*at, reachable_from=self.room.entrance) for at in reversed(k.seen_from)
-            ]
-            options = [c for c in shown if _away(c, showing) and self.should_see(k, c, boxes)] or [
-                c
-                for _, c in sorted(
-                    (math.dist(c, (k.x, k.y)), c)
-                    for c in cells
-                    if math.dist(c, (k.x, k.y)) >= FORGOTTEN_FROM
-                    and _away(c, showing)
-                    and self.should_see(k, c, boxes)
-                )
-            ]
-            if not options:
-                continue
-            taken.append(options[0])
-            names.append(self.exploration.add_viewpoint(options[0], forgotten=k.name))
-        if names:
+        looks = revisit.viewpoints_at_forgotten(self)
+        if looks:
             self._forget_facts()
-        return names
-
-
-def _away(c: Point, points: list[Point]) -> bool:
-    """Whether c is more than 0.5 m from every one of ``points`` (a viewpoint of its own)."""
-    return all(math.dist(c, q) > 0.5 for q in points)
+        return added + looks
