@@ -3,6 +3,7 @@ tidyplan.belief.ring: the ring's sums done at once, giving what they gave cell b
 
 from __future__ import annotations
 
+import math
 import random
 from collections import Counter
 from dataclasses import replace
@@ -11,7 +12,7 @@ import pytest
 
 from sim.grid import Box
 from tidyplan.belief.geometry import RoomMap
-from tidyplan.belief.mapfacts import Placed
+from tidyplan.belief.mapfacts import Placed, Point
 from tidyplan.generate.rooms import generate
 
 
@@ -43,11 +44,12 @@ def test_an_item_taken_away_chooses_again_only_the_poses_near_it(monkeypatch):
 
 
 def test_the_cells_whose_reach_crosses_a_box_are_those_found_one_by_one():
-    """crossing_cells samples every cell's reach at once; it finds what crosses finds cell by
-    cell, boxes whose sides lie on the samples themselves included (a grid of 5 cm cells)."""
+    """crossing_cells samples every cell's reach at once; it finds what _crosses (one segment,
+    one sample at a time, the rule written plainly) finds cell by cell, boxes whose sides lie on
+    the samples themselves included (a grid of 5 cm cells)."""
     import numpy as np
 
-    from tidyplan.belief.ring import crosses, crossing_cells
+    from tidyplan.belief.ring import crossing_cells
 
     rng = random.Random(3)
     found = 0
@@ -65,7 +67,7 @@ def test_the_cells_whose_reach_crosses_a_box_are_those_found_one_by_one():
         )
         box = Box(cx, cy, sx, sy, "b")
         cells = np.arange(len(ring))
-        want = tuple(k for k in range(len(ring)) if crosses(ring[k], at, box))
+        want = tuple(k for k in range(len(ring)) if _crosses(ring[k], at, box))
         assert tuple(crossing_cells(np.array(ring), cells, at, box).tolist()) == want
         found += len(want)
     assert found  # some reach crossed a box: the test is of something
@@ -167,3 +169,20 @@ def test_a_pose_adjustment_is_chosen_again_when_a_floor_item_comes_down_near_it(
         return facts.points.get(grasp), facts.points.get(grasp + "-base"), "kitchen-k" in facts.unreachable
 
     assert answer(want) != answer(before)
+
+
+def _crosses(a: Point, b: Point, box: Box) -> bool:
+    """Whether segment a-b passes over the box's footprint, sampled every 2 cm: the oracle of
+    tidyplan.belief.ring.crossing_cells."""
+    hx, hy = box.sx / 2, box.sy / 2
+    if (
+        max(a[0], b[0]) < box.cx - hx
+        or min(a[0], b[0]) > box.cx + hx
+        or max(a[1], b[1]) < box.cy - hy
+        or min(a[1], b[1]) > box.cy + hy
+    ):
+        return False  # apart: no sample can fall on it (most boxes near an item, most segments)
+    n = max(2, int(math.dist(a, b) / 0.02))
+    return any(
+        box.clearance(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) == 0.0 for k in range(n + 1)
+    )

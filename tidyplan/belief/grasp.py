@@ -468,16 +468,16 @@ class GraspPoses:
         hit = self._pairs.get(key)
         if hit is None:
             xy = self._ring_array(p.xy)
-            # crosses' own first test, for the whole ring at once: segments apart from b's
-            # footprint along x or y cannot cross it
+            # first, for the whole ring at once: a segment wholly beside the footprint along x
+            # or y cannot cross it
             hx, hy = b.sx / 2, b.sy / 2
-            apart = (
+            beside = (
                 (np.maximum(xy[:, 0], p.x) < b.cx - hx)
                 | (np.minimum(xy[:, 0], p.x) > b.cx + hx)
                 | (np.maximum(xy[:, 1], p.y) < b.cy - hy)
                 | (np.minimum(xy[:, 1], p.y) > b.cy + hy)
             )
-            cross = crossing_cells(xy, np.nonzero(~apart)[0], p.xy, b)
+            cross = crossing_cells(xy, np.nonzero(~beside)[0], p.xy, b)
             # the cells b stands on: numpy decides the clear cases, Box.clearance those within
             # 1e-9 m of the radius (its verdict is the rule, as in the grids' masks)
             d = np.hypot(

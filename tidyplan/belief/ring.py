@@ -1,7 +1,7 @@
 """The cells around an item a grasp may be made from (its ring), worked on as arrays: what each
 cell waits for (``Blockers``), whether the robot reaches it (``Reach``), the poses taken near
 it (``Taken``), the floor items near an item, cells apart from poses, a straight short move,
-and a reach crossing a footprint (sampled as ``crosses`` samples it, for many cells at once).
+and a reach crossing a footprint (sampled every 2 cm, for many cells at once).
 ``tidyplan.belief.grasp.GraspPoses`` chooses with them.
 """
 
@@ -96,20 +96,16 @@ def near_boxes(boxes: np.ndarray, xy: Point, within: float) -> np.ndarray:
     return np.nonzero(np.hypot(dx, dy) <= within + 1e-9)[0]
 
 
-def apart(cells, points: list[Point], gap: float, axis: int = 1) -> np.ndarray:
-    """Which of ``cells`` are at least ``gap`` from every one of ``points`` (``axis`` 0: which of
-    ``points`` are at least ``gap`` from every cell): math.dist's verdict (numpy decides the
-    clear cases, math.dist those within 1e-9 m of the gap, as in _ring)."""
+def apart(cells, points: list[Point], gap: float) -> np.ndarray:
+    """Which of ``cells`` are at least ``gap`` from every one of ``points``: math.dist's verdict
+    (numpy decides the clear cases, math.dist those within 1e-9 m of the gap, as in _ring)."""
     if not len(cells) or not len(points):
-        return np.ones(len(cells) if axis == 1 else len(points), dtype=bool)
+        return np.ones(len(cells), dtype=bool)
     c, q = np.asarray(cells, dtype=float), np.asarray(points, dtype=float)
     d = np.hypot(c[:, None, 0] - q[None, :, 0], c[:, None, 1] - q[None, :, 1])
-    keep = (d >= gap + 1e-9).all(axis=axis)
-    for k in np.nonzero(~keep & (d >= gap - 1e-9).all(axis=axis))[0]:
-        if axis == 1:
-            keep[k] = all(math.dist(tuple(c[k]), tuple(x)) >= gap for x in q)
-        else:
-            keep[k] = all(math.dist(tuple(x), tuple(q[k])) >= gap for x in c)
+    keep = (d >= gap + 1e-9).all(axis=1)
+    for k in np.nonzero(~keep & (d >= gap - 1e-9).all(axis=1))[0]:
+        keep[k] = all(math.dist(tuple(c[k]), tuple(x)) >= gap for x in q)
     return keep
 
 
@@ -121,15 +117,16 @@ def straight(grid: OccupancyGrid, a: Point, b: Point, step: float = 0.05) -> boo
 
 def crossing_cells(ring: np.ndarray, cells: np.ndarray, at: Point, box: Box) -> np.ndarray:
     """Of ``cells`` (indices into ``ring``, an (n, 2) array of cell centres), those whose segment
-    to ``at`` passes over the box: ``crosses``' samples for all of them at once (the same sums in
-    the same order, so the same points; a sample is on the footprint when neither of its
+    to ``at`` passes over the box, sampled every 2 cm (``max(2, int(length / 0.02))`` steps,
+    the samples ``a + (at - a) * k / n`` for k = 0..n), all of them at once (the same sums a
+    sample at a time makes, so the same points; a sample is on the footprint when neither of its
     distances along x and y from the box's sides is positive, which is
     ``Box.clearance(...) == 0``)."""
     cells = np.asarray(cells, dtype=np.int64)
     if not len(cells):
         return cells
     a = ring[cells]
-    # samples per segment as crosses counts them (math.dist's length; numpy's where no whole
+    # steps per segment from math.dist's length (numpy's numpy's where no whole
     # number of 2 cm steps lies within 1e-9 of it, math.dist's where one may)
     steps = np.hypot(a[:, 0] - at[0], a[:, 1] - at[1]) / 0.02
     n = np.floor(steps).astype(np.int64)
@@ -144,22 +141,6 @@ def crossing_cells(ring: np.ndarray, cells: np.ndarray, at: Point, box: Box) -> 
     y = ay + (at[1] - ay) * j / nn
     on = (np.abs(x - box.cx) - box.sx / 2 <= 0.0) & (np.abs(y - box.cy) - box.sy / 2 <= 0.0)
     return cells[np.logical_or.reduceat(on, starts)]
-
-
-def crosses(a: Point, b: Point, box: Box) -> bool:
-    """Whether segment a-b passes over the box's footprint (sampled every 2 cm)."""
-    hx, hy = box.sx / 2, box.sy / 2
-    if (
-        max(a[0], b[0]) < box.cx - hx
-        or min(a[0], b[0]) > box.cx + hx
-        or max(a[1], b[1]) < box.cy - hy
-        or min(a[1], b[1]) > box.cy + hy
-    ):
-        return False  # apart: no sample can fall on it (most boxes near an item, most segments)
-    n = max(2, int(math.dist(a, b) / 0.02))
-    return any(
-        box.clearance(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) == 0.0 for k in range(n + 1)
-    )
 
 
 def box_key(b: Box) -> tuple:
