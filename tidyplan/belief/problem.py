@@ -287,7 +287,7 @@ def _map_layers(facts: MapFacts) -> tuple[Atoms, set, set]:
     those, not the hundred thousand atoms of a 96-object room's pairs."""
     if facts.shared is None or facts.own is None:
         return _map_set(facts), set(), set()
-    added = {a for atoms in _atoms(facts.own) for a in atoms}
+    added = {a for atoms in _by_predicate(facts.own).values() for a in atoms}
     removed = set()
     for a, b in facts.dropped:
         for atom, there in ((("path", a, b), (a, b) in facts.blocked), (("pose-adjustment", a, b), False)):
@@ -295,10 +295,6 @@ def _map_layers(facts: MapFacts) -> tuple[Atoms, set, set]:
                 added.discard(atom)
                 removed.add(atom)
     return _map_set(facts.shared), added, removed
-
-
-def _atoms(facts: MapFacts):
-    yield from _by_predicate(facts).values()
 
 
 def _by_predicate(facts: MapFacts) -> dict[str, list]:
