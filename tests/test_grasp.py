@@ -6,11 +6,11 @@ from __future__ import annotations
 import math
 import random
 from collections import Counter
-from dataclasses import replace
 
 import pytest
 
 from sim.grid import Box
+from tests.test_map_memo import Walk
 from tidyplan.belief.geometry import RoomMap
 from tidyplan.belief.mapfacts import Placed, Point
 from tidyplan.generate.rooms import generate
@@ -82,38 +82,17 @@ def test_poses_kept_from_the_last_choice_are_a_fresh_maps_on_a_crowded_floor(see
     rng = random.Random(seed)
     room = RoomMap(scenario)
     everything = _placed(scenario)
-    items = everything[: len(everything) // 2]
     free = room.grid(()).free_cells(reachable_from=room.entrance)
-    sticky: dict = {}
-    avoid: dict = {}
-    out: tuple[Box, ...] = ()
+    walk = Walk(everything[: len(everything) // 2], free, rng, everything)
     kinds = Counter()
     for turn in range(24):
         what = rng.choice(["move", "see", "see", "take", "shift", "avoid", "drawer"])
-        unseen = [p for p in everything if p.name not in {q.name for q in items}]
-        if what == "see" and unseen:
-            items = sorted([*items, rng.choice(unseen)], key=lambda p: p.name)
-        elif what == "take" and items:
-            items = [p for p in items if p is not rng.choice(items)]
-        elif what == "shift" and items:
-            # the belief corrects where an item lies: a few centimetres, or across the room
-            p = rng.choice(items)
-            x, y = (
-                (p.x + rng.uniform(-0.1, 0.1), p.y + rng.uniform(-0.1, 0.1)) if turn % 2 else rng.choice(free)
-            )
-            items = [replace(q, x=x, y=y) if q is p else q for q in items]
-        elif what == "avoid" and sticky:
-            name = rng.choice(sorted(sticky))
-            avoid = {**avoid, name: [*avoid.get(name, []), sticky[name]]}
-        elif what == "drawer":
-            x, y = rng.choice(free)
-            out = () if out else (Box(x, y, 0.4, 0.3, "drawer-top"),)
+        walk.change(what, turn)
         robot = (f"wp-robot-{turn}", rng.choice(free))
-        got = room.poses(items, robot, dict(sticky), avoid, out)
-        want = RoomMap(scenario).poses(items, robot, dict(sticky), avoid, out)
+        got = room.poses(walk.items, robot, dict(walk.sticky), walk.avoid, walk.out)
+        want = RoomMap(scenario).poses(walk.items, robot, dict(walk.sticky), walk.avoid, walk.out)
         assert got == want, f"turn {turn} ({what})"
-        sticky = {n: q for n, q in sticky.items() if n in {p.name for p in items}}
-        sticky.update((item, got.points[wp]) for item, wp in got.grasp.items())
+        walk.keep(got)
         kinds.update({"waits": len(got.reach_blockers), "all": len(got.grasp)})
     # the floor is of the kind meant: some poses wait for floor items
     assert kinds["waits"], kinds

@@ -5,6 +5,7 @@ pose kept (sticky) or avoided, a drawer out: each answer checked against a new R
 from __future__ import annotations
 
 import random
+from dataclasses import replace
 
 import pytest
 
@@ -20,35 +21,65 @@ def _placed(scenario) -> list[Placed]:
     )
 
 
+class Walk:
+    """A belief's floor taking one change at a time, drawn from ``rng``: an item seen (one of
+    ``everything`` not on the floor yet), moved a few centimetres or across the room, or taken
+    away; a grasp pose to avoid (one kept before); a drawer pulled out or pushed in. ``keep``
+    takes the poses just chosen as the ones kept (sticky), as the belief does."""
+
+    def __init__(self, items, free, rng, everything=()) -> None:
+        self.items, self.free, self.rng, self.everything = list(items), free, rng, list(everything)
+        self.sticky: dict = {}
+        self.avoid: dict = {}
+        self.out: tuple[Box, ...] = ()
+
+    def change(self, what: str, turn: int) -> None:
+        rng, items = self.rng, self.items
+        if what == "see":
+            unseen = [p for p in self.everything if p.name not in {q.name for q in items}]
+            if unseen:
+                self.items = sorted([*items, rng.choice(unseen)], key=lambda p: p.name)
+        elif what == "take" and items:
+            self.items = [p for p in items if p is not rng.choice(items)]
+        elif what == "shift" and items:
+            # the belief corrects where an item lies: a few centimetres, or across the room
+            p = rng.choice(items)
+            x, y = (
+                (p.x + rng.uniform(-0.1, 0.1), p.y + rng.uniform(-0.1, 0.1))
+                if turn % 2
+                else rng.choice(self.free)
+            )
+            self.items = [replace(q, x=x, y=y) if q is p else q for q in items]
+        elif what == "avoid" and self.sticky:
+            # the robot failed to find an item from the pose it was to grasp it from
+            name = rng.choice(sorted(self.sticky))
+            self.avoid = {**self.avoid, name: [*self.avoid.get(name, []), self.sticky[name]]}
+        elif what == "drawer":
+            x, y = rng.choice(self.free)
+            self.out = () if self.out else (Box(x, y, 0.4, 0.3, "drawer-top"),)
+
+    def keep(self, got) -> None:
+        self.sticky.update((item, got.points[wp]) for item, wp in got.grasp.items())
+
+
 @pytest.mark.parametrize("seed", [0, 3, 7])
 def test_facts_after_moves_takes_and_drawers_are_those_of_a_fresh_map(seed):
     scenario = generate("one", seed)
     rng = random.Random(seed)
     room = RoomMap(scenario)
-    items = _placed(scenario)
     free = room.grid(()).free_cells(reachable_from=room.entrance)
     nav = room.grid(())
     tight = [c for c in room.grid((), bare=True).free_cells() if not nav.free(*c)]
-    sticky: dict = {}
-    avoid: dict = {}
-    out: tuple[Box, ...] = ()
+    walk = Walk(_placed(scenario), free, rng)
     for turn in range(12):
         what = rng.choice(["move", "move", "take", "avoid", "drawer"])
-        if what == "take" and items:
-            items = [p for p in items if p is not rng.choice(items)]
-        elif what == "avoid" and sticky:
-            # the robot failed to find an item from the pose it was to grasp it from
-            name = rng.choice(sorted(sticky))
-            avoid = {**avoid, name: [*avoid.get(name, []), sticky[name]]}
-        elif what == "drawer":
-            x, y = rng.choice(free)
-            out = () if out else (Box(x, y, 0.4, 0.3, "drawer-top"),)
+        walk.change(what, turn)
         # now and then left in a tight pose the navigation grid has not free (it backs out)
         robot = (f"wp-robot-{turn}", rng.choice(tight if turn % 4 == 3 else free))
-        got = room.facts(items, robot, dict(sticky), avoid, out)
-        want = RoomMap(scenario).facts(items, robot, dict(sticky), avoid, out)
+        got = room.facts(walk.items, robot, dict(walk.sticky), walk.avoid, walk.out)
+        want = RoomMap(scenario).facts(walk.items, robot, dict(walk.sticky), walk.avoid, walk.out)
         assert got == want, f"turn {turn} ({what})"
-        sticky.update((item, got.points[wp]) for item, wp in got.grasp.items())
+        walk.keep(got)
 
 
 def test_a_move_alone_works_out_only_the_robots_own_waypoint(monkeypatch):
