@@ -1,17 +1,21 @@
 """The loop's own time per action, at 12, 48 and 96 objects: what monitoring costs as rooms grow.
 
-    python bench/loop_time.py [--sizes 12,48,96] [--actions 0] [--seed 0] [--out DIR]
+    python bench/loop_time.py [--sizes 12,16,48,96] [--repeat 3] [--actions 0] [--seed 0] [--out DIR]
 
-For each size, a symbolic mission (12: problems/case3.toml; 48 and 96: bench/wrs.py's two-room
-layout, as bench/replan.py makes them) runs to its end, or for its first ``--actions`` actions
-when that is given (then it is stopped: its trace stays readable). Between one ``action`` event
-and the next, the wall time is the loop's turn: the world's motion (symbolic: bookkeeping), the
-look and the belief's update, the map's facts, the assumptions' check, the plan's simulation,
-and any replan. The replans' own seconds (their ``plan`` events' ``planning_time_s``: the map's
-facts for the problem, writing it, the planner, the commitment check) are taken out, so what is
-left is the monitoring of one action. Printed per size: its median, 90th percentile and mean,
-and the replans' median beside it. (12 objects are case III, a room of its own; ``--sizes
-16,48,96`` compares sizes in one layout.)
+For each size, a symbolic mission (12: problems/case3.toml; other sizes, multiples of 8:
+bench/wrs.py's two-room layout, as bench/replan.py makes them) runs to its end, or for its first
+``--actions`` actions when that is given (then it is stopped: its trace stays readable). Between
+one ``action`` event and the next, the wall time (read as each event is written) is the loop's
+turn: the world's motion (symbolic: bookkeeping), the look and the belief's update, the map's
+facts, the assumptions' check, the plan's simulation, and any replan. The replans' own seconds
+(their ``plan`` events' ``planning_time_s``: the map's facts for the problem, writing it, the
+planner, the commitment check) are taken out, so what is left is the monitoring of one action.
+Printed per size, in milliseconds: its median, 90th percentile and mean, and the replans' median
+beside it. 12 objects are case III, a room of its own (smaller: fewer waypoints, less floor to
+see); 16, 48 and 96 are one layout, so those rows compare the number of objects alone. Each size
+runs ``--repeat`` times, the sizes taking turns (a process's first mission pays for what it loads
+once, and a busy second falls on one run, not on one size); each figure is the median over the
+runs, with the spread of the runs' means beside it.
 
 Traces go under DIR (default: a new temporary folder), never over an existing file.
 """
@@ -22,6 +26,7 @@ import argparse
 import statistics
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -50,9 +55,11 @@ def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list[fl
             state["planning"] += event.get("planning_time_s") or 0.0
             replans.append(event.get("planning_time_s") or 0.0)
         elif kind == "action":
+            # the clock read here, not the event's wall_s (rounded to the millisecond)
+            now = time.perf_counter()
             if state["last"] is not None:
-                own.append(event["wall_s"] - state["last"] - state["planning"])
-            state["last"], state["planning"] = event["wall_s"], 0.0
+                own.append(now - state["last"] - state["planning"])
+            state["last"], state["planning"] = now, 0.0
             state["n"] += 1
             if actions and state["n"] >= actions:
                 raise _Enough
@@ -64,9 +71,14 @@ def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list[fl
     return own, replans
 
 
+def _p90(own: list[float]) -> float:
+    return statistics.quantiles(own, n=10)[-1] if len(own) >= 2 else own[0]
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sizes", default="12,48,96")
+    ap.add_argument("--sizes", default="12,16,48,96")
+    ap.add_argument("--repeat", type=int, default=3, help="runs of each size, taking turns (default 3)")
     ap.add_argument("--actions", type=int, default=0, help="stop after this many (0: the whole mission)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default=None, metavar="DIR")
@@ -75,32 +87,44 @@ def main() -> int:
         sizes = [int(x) for x in args.sizes.split(",")]
     except ValueError:
         ap.exit(2, f"loop_time.py: --sizes: {args.sizes!r} is not a list of numbers\n")
+    if args.repeat < 1:
+        ap.exit(2, "loop_time.py: --repeat must be at least 1\n")
     if args.actions < 0 or args.actions == 1:
         ap.exit(2, "loop_time.py: --actions must be 0 (the whole mission) or at least 2\n")
     out = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="tidyplan-loop-time-"))
     out.mkdir(parents=True, exist_ok=True)
     which = f"the first {args.actions} actions" if args.actions else "every action"
-    print(f"traces under {out}; {which} of each mission, seed {args.seed}")
+    print(f"traces under {out}; {which} of each mission, seed {args.seed}, {args.repeat} runs of each size")
+    runs: dict[int, list[tuple[list[float], list[float]]]] = {size: [] for size in sizes}
+    for r in range(args.repeat):
+        for size in sizes:
+            scenario = _scenario(size, out)
+            trace = out / f"n{size}-s{args.seed}-r{r}.jsonl"
+            if trace.exists():
+                ap.exit(2, f"loop_time.py: {trace} exists; choose another --out\n")
+            runs[size].append(turns(scenario, trace, args.seed, args.actions))
     print(
-        "\n| objects | turns | loop per action: median (s) | 90th percentile (s) | mean (s) | replans ",
-        end="",
+        "\n| objects | room | turns | loop per action: median (ms) | 90th percentile (ms) | mean (ms) "
+        "| means of the runs (ms) | replans | replan median (s) |"
     )
-    print("| replan median (s) |")
-    print("| --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for size in sizes:
-        scenario = _scenario(size, out)
-        trace = out / f"n{size}-s{args.seed}.jsonl"
-        if trace.exists():
-            ap.exit(2, f"loop_time.py: {trace} exists; choose another --out\n")
-        own, replans = turns(scenario, trace, args.seed, args.actions)
-        if not own:
-            print(f"| {size} | 0 | - | - | - | {len(replans)} | - |")
+        room = "case III" if size == 12 else "two rooms"
+        done = [(own, replans) for own, replans in runs[size] if own]
+        if not done:
+            print(f"| {size} | {room} | 0 | - | - | - | - | - | - |")
             continue
-        p90 = statistics.quantiles(own, n=10)[-1] if len(own) >= 2 else own[0]
+        med = statistics.median(statistics.median(own) for own, _ in done)
+        p90 = statistics.median(_p90(own) for own, _ in done)
+        means = sorted(statistics.fmean(own) for own, _ in done)
+        replans = [t for _, rep in done for t in rep]
         rep = statistics.median(replans) if replans else float("nan")
+        spread = (
+            f"{means[0] * 1000:.1f}-{means[-1] * 1000:.1f}" if len(means) > 1 else f"{means[0] * 1000:.1f}"
+        )
         print(
-            f"| {size} | {len(own)} | {statistics.median(own):.3f} | {p90:.3f} | {statistics.fmean(own):.3f} "
-            f"| {len(replans)} | {rep:.3f} |"
+            f"| {size} | {room} | {len(done[0][0])} | {med * 1000:.1f} | {p90 * 1000:.1f} "
+            f"| {statistics.median(means) * 1000:.1f} | {spread} | {len(done[0][1])} | {rep:.3f} |"
         )
     return 0
 
