@@ -16,6 +16,13 @@ from tidyplan.belief.geometry import RoomMap
 from tidyplan.belief.percepts import Detection, Frame
 
 Point = tuple[float, float]
+_PLACED_EDITS = [0]  # changes to items in place, in any world: what a world's view of them is kept by
+
+
+def placed_edits() -> int:
+    """How many times an item in place has changed (a field of it set, or any item's state):
+    the same count, the same items in the same places."""
+    return _PLACED_EDITS[0]
 
 
 @dataclass(slots=True)
@@ -39,6 +46,12 @@ class TrueItem:
 
     def __post_init__(self) -> None:
         self.label = self.label or self.category
+
+    def __setattr__(self, name: str, value) -> None:
+        # an item in the hand moves with the robot at every step: no change to what is in place
+        if name == "state" or getattr(self, "state", "placed") == "placed":
+            _PLACED_EDITS[0] += 1
+        object.__setattr__(self, name, value)
 
     def seen(self, x: float, y: float, axis: tuple[float, float, float] | None = None) -> Detection:
         """What the detector reports of it, seen at (x, y): its label, its box, and an orientation

@@ -52,6 +52,7 @@ from tidyplan.worlds.base import (
     sweep_pans,
     sweep_seconds,
 )
+from tidyplan.worlds.contract import placed_edits
 
 Point = tuple[float, float]
 
@@ -83,6 +84,7 @@ class SymbolicWorld(WorldReferee):
         self.drawers: dict[str, DrawerLayout] = {n: x for n, x in layouts.items() if x is not None}
         self.opened = {n: x.start for n, x in self.drawers.items()}  # m each drawer is out
         self.jammed: dict[str, float] = {}  # where a jammed drawer is stuck
+        self._kept: _Scene | None = None  # the items in place as the camera sees them (_scene)
 
     # ------------------------------------------------------------------ sensing
     def look(self, stops: tuple[float, ...] | None = None) -> list[Detection]:
@@ -100,11 +102,9 @@ class SymbolicWorld(WorldReferee):
         cam = (self.robot[0], self.robot[1], s.camera_height)
         half = math.radians(s.fov_h_deg) / 2
         out = []
-        placed = self._placed()
-        boxes = [self._box3(o) for o in placed]  # once a look: each item occludes the others
-        across = _Across(self._furniture, placed, boxes)
-        for it in sorted(placed, key=lambda t: t.name):
-            z = self._base_z(it) + it.sz / 2
+        scene = self._scene()
+        across = scene.across()  # each item occludes the others
+        for it, z in zip(scene.ordered, scene.zs, strict=True):
             occ = across.between(cam, it)
             miss = self.rng.random() < self.fn  # drawn for every item in turn: seed fixes the run
             bearing = math.atan2(it.y - self.robot[1], it.x - self.robot[0])
@@ -125,19 +125,14 @@ class SymbolicWorld(WorldReferee):
         s = self.scenario.sensing
         cam = (self.robot[0], self.robot[1], s.camera_height)
         out = []
-        placed = self._placed()
-        across: _Across | None = None  # the occluders, once a frame (if anything is framed)
-        ordered = sorted(placed, key=lambda t: t.name)
-        zs = [self._base_z(it) + it.sz / 2 for it in ordered]
-        misses = [self.frame_rng.random() < self.fn for _ in ordered]  # every item's, in turn
+        scene = self._scene()
+        misses = [self.frame_rng.random() < self.fn for _ in scene.ordered]  # every item's, in turn
         # the field for every item at once (a call per item was most of a frame at 96 items)
-        xy = np.array([[it.x, it.y] for it in ordered], dtype=float).reshape(-1, 2)
-        framed = in_frame(self.robot, self.heading, xy, np.array(zs, dtype=float), s)
-        for it, z, miss, seen in zip(ordered, zs, misses, framed, strict=True):
+        framed = in_frame(self.robot, self.heading, scene.xy, scene.z, s)
+        for it, z, miss, seen in zip(scene.ordered, scene.zs, misses, framed, strict=True):
             if miss or not seen:
                 continue
-            across = across or _Across(self._furniture, placed, [self._box3(o) for o in placed])
-            occ = across.between(cam, it)
+            occ = scene.across().between(cam, it)
             if visible(cam, (it.x, it.y, z), occ, range_min=s.range_min, range_max=s.range_max):
                 out.append(it.seen(it.x, it.y))
         return Frame(self.robot, self.heading, out)
@@ -186,8 +181,7 @@ class SymbolicWorld(WorldReferee):
         speed = self.scenario.robot.speed / (2 if careful else 1)
         n = len(path)
         block_at, drop_at = self._faults_on_path(n)
-        floor = [self._box(o) for o in self._placed() if o.on == "floor"]
-        bare = self.room.grid(floor + out_boxes(self.drawers, self.opened), bare=True)
+        bare = self._scene().bare(self.room, out_boxes(self.drawers, self.opened))
         metres = seconds = 0.0
         framed = 0.0  # m driven since the last frame kept
         for k in range(1, n):
@@ -320,6 +314,15 @@ class SymbolicWorld(WorldReferee):
         self.opened[deposit] = to
 
     # ------------------------------------------------------------------ helpers
+    def _scene(self) -> _Scene:
+        """The items in place, as looks and motions use them, kept while none of them changes
+        (``placed_edits``): at 96 items, listing, sorting and boxing them for every frame on
+        the way was a tenth of a turn."""
+        edits = placed_edits()
+        if self._kept is None or self._kept.edits != edits:
+            self._kept = _Scene(self, edits)
+        return self._kept
+
     def _base_z(self, o: TrueItem) -> float:
         return 0.0 if o.on == "floor" else self.scenario.furniture_named(o.on).height
 
@@ -356,6 +359,37 @@ def _segment_free(grid, a: Point, b: Point, step: float = 0.05) -> bool:
     """Every point from a (excluded: the robot is there) to b, ``step`` apart, fits the robot."""
     n = max(1, math.ceil(math.dist(a, b) / step))
     return all(grid.free(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) for k in range(1, n + 1))
+
+
+class _Scene:
+    """The items in place at one count of ``placed_edits``: in the world's order (``placed``)
+    and in name order (``ordered``, with each one's middle height ``zs`` and the arrays a
+    frame's field takes), the occluders (``across``, made when first asked) and the bare grid
+    a motion checks its path on (``bare``, by the drawers out)."""
+
+    def __init__(self, world: SymbolicWorld, edits: int) -> None:
+        self.world, self.edits = world, edits
+        self.placed = world._placed()
+        self.ordered = sorted(self.placed, key=lambda t: t.name)
+        self.zs = [world._base_z(it) + it.sz / 2 for it in self.ordered]
+        self.xy = np.array([[it.x, it.y] for it in self.ordered], dtype=float).reshape(-1, 2)
+        self.z = np.array(self.zs, dtype=float)
+        self._across: _Across | None = None
+        self._bare: dict[tuple, object] = {}
+
+    def across(self) -> _Across:
+        if self._across is None:
+            world = self.world
+            self._across = _Across(world._furniture, self.placed, [world._box3(o) for o in self.placed])
+        return self._across
+
+    def bare(self, room: RoomMap, out: list[Box]):
+        """The bare grid with the floor items in place and the drawers' ``out`` boxes."""
+        key = tuple(out)
+        if key not in self._bare:
+            floor = [self.world._box(o) for o in self.placed if o.on == "floor"]
+            self._bare[key] = room.grid(floor + list(out), bare=True)
+        return self._bare[key]
 
 
 class _Across:
