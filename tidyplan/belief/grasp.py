@@ -447,17 +447,6 @@ class GraspPoses:
         # and as flat indices of the room's grids (all share bounds and cells)
         self._ring_flat[at] = (ii[near] + i0) * bare.shape[1] + (jj[near] + j0)
         return self._rings[at]
-        if self._bare_cells is None:
-            cells = self.room.grid((), bare=True).free_cells()
-            self._bare_cells = (cells, np.array(cells, dtype=float).reshape(-1, 2))
-        cells, xy = self._bare_cells
-        d = np.hypot(xy[:, 0] - at[0], xy[:, 1] - at[1])
-        # the same float test as math.dist, so a cell on the ring's edge stays in or out as before
-        near = np.nonzero((d >= GRASP_MIN - 1e-9) & (d <= GRASP_MAX + 1e-9))[0]
-        if len(self._rings) > 4096:  # a mission's items and where they were seen
-            self._rings.clear()
-        self._rings[at] = [c for c in (cells[k] for k in near) if GRASP_MIN <= math.dist(c, at) <= GRASP_MAX]
-        return self._rings[at]
 
     def _pair(self, p: Placed, b: Box, b_key: tuple, ring: list[Point]) -> tuple[np.ndarray, np.ndarray]:
         """The cells of ``p``'s ring (their indices) from which the arm's reach to ``p`` passes
