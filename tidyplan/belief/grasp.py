@@ -99,8 +99,9 @@ class GraspPoses:
         # every item of the room, each new floor, was a third of the choice at 96 objects).
         # "Near" is what the key reads: a floor item over the ring, a pose within 0.1 m of it.
         reach = nav.reaches_cells(np.arange(nav.shape[0] * nav.shape[1]), origin)
-        stale = self._stale(items, set(box_keys), out, reach, nav)
         last = self._last.answers if self._last is not None else {}
+        held = [self._held(last.get(p.name), p, (sticky or {}).get(p.name)) for p in items]
+        stale = self._stale(items, set(box_keys), out, reach, nav, held)
         moved = Taken()  # the poses of the items whose answer changed, before and after
         for name in last.keys() - {p.name for p in items}:
             for q in last[name].facts.points.values():
@@ -108,16 +109,17 @@ class GraspPoses:
         answers: dict[str, _Answer] = {}
         for i, p in enumerate(items):
             bad, previous = tuple((avoid or {}).get(p.name, ())), (sticky or {}).get(p.name)
-            was = last.get(p.name)
+            was, k = last.get(p.name), held[i]
             if (
                 was is not None
                 and not stale[i]
                 and was.level < 3
-                and (was.item, was.kept, was.avoided) == (p, previous, bad)
-                and not any(self._rules_out(p.xy, q) for q in moved.near(p.xy, TAKEN_NEAR))
+                and (was.item, was.avoided) == (p, bad)
+                and (was.kept == previous or k is not None)
+                and not self._moved_near(p, was.level, k, moved)
                 and (was.level == 1 or self._room_of(p, static) == was.room)
             ):
-                answer = was
+                answer = was if was.kept == previous else was._replace(kept=previous)
             else:
                 answer = self._keyed(
                     p, floor, box_keys, boxes, nav, static, bare, reachable, previous, bad, taken
@@ -183,12 +185,44 @@ class GraspPoses:
         # found: its key's length says how far beyond the ring it looked
         return _Answer(p, previous, tuple(bad), one, 1 if len(key) == 8 else 2 if len(key) == 9 else 3, room)
 
-    def _stale(self, items: list[Placed], floor: set, out: tuple, reach: np.ndarray, nav: OccupancyGrid):
+    def _held(self, was: _Answer | None, p: Placed, previous: Point | None) -> int | None:
+        """Where ``p``'s last answer was a pose reached now or once others are cleared (level 1
+        or 2) and is the pose kept now: that pose's cell of the ring (else None). A kept pose
+        still usable is the one chosen again (``_add_grasp``), so for such an answer only a
+        change that can make it unusable, or (level 2) free a cell of the ring, matters."""
+        if was is None or was.level not in (1, 2) or previous is None or was.item != p:
+            return None
+        if was.facts.points.get(grasp_waypoint(p.name)) != previous:
+            return None
+        return self._ring_index(p.xy).get(previous)
+
+    def _moved_near(self, p: Placed, level: int, k: int | None, moved: Taken) -> bool:
+        """Whether a pose that changed since the last choice may change ``p``'s: one within
+        0.1 m of a cell of its ring; of the kept pose's cell, for a pose reached now and kept
+        (a pose gone frees cells, and the kept one is taken while usable)."""
+        near = moved.near(p.xy, TAKEN_NEAR)
+        if k is not None and level == 1:
+            return any(k in self._ruled_out(p.xy, q) for q in near)
+        return any(self._rules_out(p.xy, q) for q in near)
+
+    def _stale(
+        self,
+        items: list[Placed],
+        floor: set,
+        out: tuple,
+        reach: np.ndarray,
+        nav: OccupancyGrid,
+        held: list[int | None],
+    ):
         """For each item, whether something its pose (if reached now) depends on may have
         changed since the last choice: a floor item come or gone that crosses a reach from its
         ring or stands on a cell of it, a cell of its ring reached then and not now or the other
-        way. (The item itself, its kept and avoided poses and the poses taken near it,
-        ``choose`` compares.)"""
+        way. For an answer that is the pose kept (``held``: its cell), less: a floor item come
+        matters only over that cell (elsewhere it only takes cells away, and the kept pose is
+        taken while usable); one gone, not for a pose reached now; a cell no longer reached,
+        only that one; a cell reached now that was not, for a pose reached now not at all.
+        (The item itself, its kept and avoided poses and the poses taken near it, ``choose``
+        compares.)"""
         if self._last is None or self._last.out != out or self._last.reach.shape != reach.shape:
             return np.ones(len(items), dtype=bool)
         xy = np.array([p.xy for p in items], dtype=float).reshape(-1, 2)
@@ -205,7 +239,13 @@ class GraspPoses:
                 p = items[i]
                 if not stale[i] and keys[j][4] != p.name:
                     cross, under = self._pair(p, Box(*keys[j]), keys[j], self._ring(p.xy))
-                    stale[i] = bool(len(cross) or len(under))
+                    k = held[i]
+                    if k is None:
+                        stale[i] = bool(len(cross) or len(under))
+                    elif keys[j] in floor:  # come since: over the kept pose's cell?
+                        stale[i] = bool(k in cross or k in under)
+                    else:  # gone: it may free cells of the ring, which a pose reached now ignores
+                        stale[i] = self._last.answers[p.name].level == 2 and bool(len(cross) or len(under))
         flipped = (reach != self._last.reach).reshape(nav.shape)
         if flipped.any():  # the flipped cells in each ring's square (a cell to spare), summed
             sums = np.zeros((nav.shape[0] + 1, nav.shape[1] + 1), dtype=np.int64)
@@ -225,9 +265,15 @@ class GraspPoses:
             )
             square = (sums[i1, j1] - sums[i0, j1] - sums[i1, j0] + sums[i0, j0]) > 0
             # of those with one in the square, those with one on the ring (what the key reads)
-            flat = flipped.ravel()
+            flat, now = flipped.ravel(), reach
             for i in np.nonzero(square & ~stale)[0].tolist():
-                stale[i] = bool(flat[self._ring_cells(items[i].xy)].any())
+                cells, k = self._ring_cells(items[i].xy), held[i]
+                if k is None:
+                    stale[i] = bool(flat[cells].any())
+                elif self._last.answers[items[i].name].level == 1:  # the kept cell no longer reached
+                    stale[i] = bool(flat[cells[k]])
+                else:  # a cell reached now that was not
+                    stale[i] = bool((flat[cells] & now[cells]).any())
         return stale
 
     def _add_grasp(
