@@ -6,12 +6,15 @@ For each size, a symbolic mission (12: problems/case3.toml; other sizes, multipl
 bench/wrs.py's two-room layout, as bench/replan.py makes them) runs to its end, or for its first
 ``--actions`` actions when that is given (then it is stopped: its trace stays readable). Between
 one ``action`` event and the next, the wall time (read as each event is written) is the loop's
-turn: the world's motion (symbolic: bookkeeping), the look and the belief's update, the map's
-facts, the assumptions' check, the plan's simulation, and any replan. The replans' own seconds
-(their ``plan`` events' ``planning_time_s``: the map's facts for the problem, writing it, the
-planner, the commitment check) are taken out, so what is left is the monitoring of one action.
-Printed per size, in milliseconds: its median, 90th percentile and mean, and the replans' median
-beside it. 12 objects are case III, a room of its own (smaller: fewer waypoints, less floor to
+turn: the world's simulation (the symbolic world's motion, frames and looks), the belief's update
+from what the robot saw, the map's facts, the assumptions' check, the plan's simulation, and any
+replan. Two parts are taken out, so what is left is the loop's own work for one action: the
+replans' own seconds (their ``plan`` events' ``planning_time_s``: the map's facts for the
+problem, writing it, the planner, the commitment check), and the world's, the time inside its
+calls (the simulator's, which on the robot is the robot's: the world is run as a registry entry
+of its own, the symbolic world with each call clocked). Printed per size, in milliseconds: the
+loop's median, 90th percentile and mean per action, the world's mean beside it, and the
+replans' median. 12 objects are case III, a room of its own (smaller: fewer waypoints, less floor to
 see); 16, 48 and 96 are one layout, so those rows compare the number of objects alone. Each size
 runs ``--repeat`` times, the sizes taking turns (a process's first mission pays for what it loads
 once, and a busy second falls on one run, not on one size); each figure is the median over the
@@ -23,6 +26,8 @@ Traces go under DIR (default: a new temporary folder), never over an existing fi
 from __future__ import annotations
 
 import argparse
+import functools
+import inspect
 import statistics
 import sys
 import tempfile
@@ -40,14 +45,52 @@ class _Enough(Exception):
     """Raised from the trace listener once the mission has run its actions."""
 
 
-def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list[float], list[float]]:
-    """(the loop's own wall seconds of each turn, each replan's seconds) of a symbolic mission's
-    first ``actions`` actions (0: all of them)."""
+_SPENT = {"s": 0.0, "depth": 0}  # wall seconds inside the world's calls (the outermost only)
+
+
+def _clocked(method):
+    @functools.wraps(method)
+    def call(*args, **kwargs):
+        if _SPENT["depth"]:
+            return method(*args, **kwargs)
+        _SPENT["depth"], start = 1, time.perf_counter()
+        try:
+            return method(*args, **kwargs)
+        finally:
+            _SPENT["s"] += time.perf_counter() - start
+            _SPENT["depth"] = 0
+
+    return call
+
+
+def _clocked_world() -> str:
+    """The symbolic world with the wall time of every call into it counted (``_SPENT``), as a
+    world of the registry: the simulator's own time, which the loop's turn is read without."""
+    from tidyplan.worlds.registry import WORLDS, WorldEntry
+    from tidyplan.worlds.symbolic import SymbolicWorld
+
+    global ClockedSymbolicWorld
+    methods = {
+        name: _clocked(value)
+        for cls in reversed(SymbolicWorld.__mro__)
+        for name, value in vars(cls).items()
+        if inspect.isfunction(value) and not name.startswith("_")
+    }
+    ClockedSymbolicWorld = type("ClockedSymbolicWorld", (SymbolicWorld,), methods)
+    WORLDS["symbolic-clocked"] = WorldEntry(f"{__name__}:ClockedSymbolicWorld", WORLDS["symbolic"].skills)
+    return "symbolic-clocked"
+
+
+def turns(
+    scenario: Path, trace: Path, seed: int, actions: int
+) -> tuple[list[float], list[float], list[float]]:
+    """(the loop's own wall seconds of each turn, the world's seconds in each, each replan's
+    seconds) of a symbolic mission's first ``actions`` actions (0: all of them)."""
     from tidyplan.loop.mission import run
     from tidyplan.loop.options import Settings
 
-    own, replans = [], []
-    state = {"last": None, "planning": 0.0, "n": 0}
+    own, world, replans = [], [], []
+    state = {"last": None, "planning": 0.0, "n": 0, "world": 0.0}
 
     def listen(event: dict) -> None:
         kind = event.get("kind")
@@ -56,19 +99,21 @@ def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list[fl
             replans.append(event.get("planning_time_s") or 0.0)
         elif kind == "action":
             # the clock read here, not the event's wall_s (rounded to the millisecond)
-            now = time.perf_counter()
+            now, spent = time.perf_counter(), _SPENT["s"]
             if state["last"] is not None:
-                own.append(now - state["last"] - state["planning"])
-            state["last"], state["planning"] = now, 0.0
+                in_world = spent - state["world"]
+                own.append(now - state["last"] - state["planning"] - in_world)
+                world.append(in_world)
+            state["last"], state["planning"], state["world"] = now, 0.0, spent
             state["n"] += 1
             if actions and state["n"] >= actions:
                 raise _Enough
 
     try:
-        run(str(scenario), trace, Settings(seed=seed, world="symbolic"), on_event=listen)
+        run(str(scenario), trace, Settings(seed=seed, world=_clocked_world()), on_event=listen)
     except _Enough:
         pass
-    return own, replans
+    return own, world, replans
 
 
 def _p90(own: list[float]) -> float:
@@ -95,7 +140,7 @@ def main() -> int:
     out.mkdir(parents=True, exist_ok=True)
     which = f"the first {args.actions} actions" if args.actions else "every action"
     print(f"traces under {out}; {which} of each mission, seed {args.seed}, {args.repeat} runs of each size")
-    runs: dict[int, list[tuple[list[float], list[float]]]] = {size: [] for size in sizes}
+    runs: dict[int, list[tuple[list[float], list[float], list[float]]]] = {size: [] for size in sizes}
     for r in range(args.repeat):
         for size in sizes:
             scenario = _scenario(size, out)
@@ -105,26 +150,28 @@ def main() -> int:
             runs[size].append(turns(scenario, trace, args.seed, args.actions))
     print(
         "\n| objects | room | turns | loop per action: median (ms) | 90th percentile (ms) | mean (ms) "
-        "| means of the runs (ms) | replans | replan median (s) |"
+        "| means of the runs (ms) | the world's, mean (ms) | replans | replan median (s) |"
     )
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for size in sizes:
         room = "case III" if size == 12 else "two rooms"
-        done = [(own, replans) for own, replans in runs[size] if own]
+        done = [run for run in runs[size] if run[0]]
         if not done:
-            print(f"| {size} | {room} | 0 | - | - | - | - | - | - |")
+            print(f"| {size} | {room} | 0 | - | - | - | - | - | - | - |")
             continue
-        med = statistics.median(statistics.median(own) for own, _ in done)
-        p90 = statistics.median(_p90(own) for own, _ in done)
-        means = sorted(statistics.fmean(own) for own, _ in done)
-        replans = [t for _, rep in done for t in rep]
+        med = statistics.median(statistics.median(own) for own, _, _ in done)
+        p90 = statistics.median(_p90(own) for own, _, _ in done)
+        means = sorted(statistics.fmean(own) for own, _, _ in done)
+        world = statistics.median(statistics.fmean(w) for _, w, _ in done)
+        replans = [t for _, _, rep in done for t in rep]
         rep = statistics.median(replans) if replans else float("nan")
         spread = (
             f"{means[0] * 1000:.1f}-{means[-1] * 1000:.1f}" if len(means) > 1 else f"{means[0] * 1000:.1f}"
         )
         print(
             f"| {size} | {room} | {len(done[0][0])} | {med * 1000:.1f} | {p90 * 1000:.1f} "
-            f"| {statistics.median(means) * 1000:.1f} | {spread} | {len(done[0][1])} | {rep:.3f} |"
+            f"| {statistics.median(means) * 1000:.1f} | {spread} | {world * 1000:.1f} | {len(done[0][2])} "
+            f"| {rep:.3f} |"
         )
     return 0
 
