@@ -13,7 +13,8 @@ new floor costs the items near what changed. The ring's arithmetic is ``tidyplan
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
+from functools import cache
 from typing import NamedTuple, Protocol
 
 import numpy as np
@@ -100,7 +101,11 @@ class GraspPoses:
         # "Near" is what the key reads: a floor item over the ring, a pose within 0.1 m of it.
         reach = nav.reaches_cells(np.arange(nav.shape[0] * nav.shape[1]), origin)
         last = self._last.answers if self._last is not None else {}
-        held = [self._held(last.get(p.name), p, (sticky or {}).get(p.name)) for p in items]
+
+        @cache
+        def held(i: int) -> int | None:  # asked of the items near a change only
+            return self._held(last.get(items[i].name), items[i], (sticky or {}).get(items[i].name))
+
         stale = self._stale(items, set(box_keys), out, reach, nav, held)
         moved = Taken()  # the poses of the items whose answer changed, before and after
         for name in last.keys() - {p.name for p in items}:
@@ -109,14 +114,14 @@ class GraspPoses:
         answers: dict[str, _Answer] = {}
         for i, p in enumerate(items):
             bad, previous = tuple((avoid or {}).get(p.name, ())), (sticky or {}).get(p.name)
-            was, k = last.get(p.name), held[i]
+            was = last.get(p.name)
             if (
                 was is not None
                 and not stale[i]
                 and was.level < 3
                 and (was.item, was.avoided) == (p, bad)
-                and (was.kept == previous or k is not None)
-                and not self._moved_near(p, was.level, k, moved)
+                and (was.kept == previous or held(i) is not None)
+                and not (moved and self._moved_near(p, was.level, held(i), moved))
                 and (was.level == 1 or self._room_of(p, static) == was.room)
             ):
                 answer = was if was.kept == previous else was._replace(kept=previous)
@@ -212,7 +217,7 @@ class GraspPoses:
         out: tuple,
         reach: np.ndarray,
         nav: OccupancyGrid,
-        held: list[int | None],
+        held: Callable[[int], int | None],
     ):
         """For each item, whether something its pose (if reached now) depends on may have
         changed since the last choice: a floor item come or gone that crosses a reach from its
@@ -239,7 +244,7 @@ class GraspPoses:
                 p = items[i]
                 if not stale[i] and keys[j][4] != p.name:
                     cross, under = self._pair(p, Box(*keys[j]), keys[j], self._ring(p.xy))
-                    k = held[i]
+                    k = held(i)
                     if k is None:
                         stale[i] = bool(len(cross) or len(under))
                     elif keys[j] in floor:  # come since: over the kept pose's cell?
@@ -267,7 +272,7 @@ class GraspPoses:
             # of those with one in the square, those with one on the ring (what the key reads)
             flat, now = flipped.ravel(), reach
             for i in np.nonzero(square & ~stale)[0].tolist():
-                cells, k = self._ring_cells(items[i].xy), held[i]
+                cells, k = self._ring_cells(items[i].xy), held(i)
                 if k is None:
                     stale[i] = bool(flat[cells].any())
                 elif self._last.answers[items[i].name].level == 1:  # the kept cell no longer reached

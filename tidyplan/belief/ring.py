@@ -72,6 +72,9 @@ class Taken:
     def add(self, q: Point) -> None:
         self._squares.setdefault((math.floor(q[0]), math.floor(q[1])), []).append(q)
 
+    def __bool__(self) -> bool:
+        return bool(self._squares)
+
     def near(self, at: Point, r: float) -> list[Point]:
         """The poses within ``r`` of ``at`` (and maybe a few more: the squares' corners)."""
         out = []
