@@ -268,6 +268,17 @@ class OccupancyGrid:
         """
         i, j, inside = pairs
         old = np.where(inside, self._labels[i, j], 0)  # (n, 2) each end's component now
+        span = self._span(box)
+        if span is not None:
+            # a box whose window meets one component at most and holds no end joins nothing new:
+            # its freed cells can only join that one (most floor items, in the open; the parts
+            # and their unions below were most of a crowded floor's blocker search)
+            e0, e1 = max(span[0] - 1, 0), min(span[1] + 1, self.shape[0])
+            f0, f1 = max(span[2] - 1, 0), min(span[3] + 1, self.shape[1])
+            near = self._labels[e0:e1, f0:f1]
+            ends_near = inside & (i >= e0) & (i < e1) & (j >= f0) & (j < f1)
+            if not ends_near.any() and len(np.unique(near[near > 0])) <= 1:
+                return (old[:, 0] != 0) & (old[:, 0] == old[:, 1])
         local = self._without(box, self._local if memo is None else memo)
         if local is None:  # it covers no cell: nothing is freed
             return (old[:, 0] != 0) & (old[:, 0] == old[:, 1])

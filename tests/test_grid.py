@@ -312,6 +312,28 @@ def test_what_taking_one_box_away_joins_is_what_a_grid_without_it_joins(seed):
     assert joined_any  # some box, taken away, joined a pair: the test is of something
 
 
+def test_a_box_that_alone_shuts_a_room_in_two_joins_its_halves_with_no_end_near_it():
+    """A wall across the room with a door-sized box in its gap, and a box on the open floor, all
+    far from every end: the door, taken away, joins the two halves (its window meets both); the
+    box in the open joins nothing (its window meets one part: the quick verdict), as grids made
+    without each say."""
+    door = Box(2.0, 1.5, 1.0, 0.3, "door")
+    left, right = Box(0.75, 1.5, 1.5, 0.3, "left"), Box(3.25, 1.5, 1.5, 0.3, "right")
+    lone = Box(1.0, 0.6, 0.2, 0.2, "lone")
+    boxes = [left, door, right, lone]
+    grid = OccupancyGrid(ROOM, boxes, radius=R)
+    pairs = [((0.3, 0.3), (3.7, 2.7)), ((0.3, 0.3), (3.7, 0.3)), ((0.3, 2.7), (2.0, 2.7))]
+    cells = grid.pair_cells(pairs)
+    assert [grid.connected(a, b) for a, b in pairs] == [False, True, True]
+    joins = {}
+    for box in boxes:
+        fresh = OccupancyGrid(ROOM, [b for b in boxes if b is not box], radius=R)
+        got = grid.joins_without(box, cells).tolist()
+        assert got == [fresh.connected(a, b) for a, b in pairs], box
+        joins[box.name] = got[0]
+    assert joins["door"] and not joins["lone"]
+
+
 def test_the_array_answers_are_the_point_by_point_ones():
     """free_at, reaches and path_cells (the map's facts ask them of a ring or a path at once)
     answer as free, connected and path do, cell centres and points between them alike."""
