@@ -20,6 +20,7 @@ the bare footprint decides where a careful pose adjustment may still go.
 from __future__ import annotations
 
 import math
+import operator
 from collections import OrderedDict
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -49,6 +50,8 @@ class _Floor:
     blockers: dict[tuple[Point, Point], tuple[str, ...]] = field(default_factory=dict)
     paths: dict[tuple, MapFacts] = field(default_factory=dict)  # _add_paths' fixed pairs
     focused: dict[tuple, MapFacts] = field(default_factory=dict)  # those among some waypoints
+    # the floor items' boxes and the grids with them: (floor, navigation, static, bare)
+    grids: tuple | None = None
 
 
 class RoomMap:
@@ -67,6 +70,7 @@ class RoomMap:
         # least recently used last out: the static map (asked every turn) keeps its paths
         self._grids: OrderedDict[tuple[float, frozenset[tuple]], OccupancyGrid] = OrderedDict()  # box_keys
         self._floors: OrderedDict[tuple, _Floor] = OrderedDict()  # the last few floors' work
+        self._last_floor: tuple | None = None  # (items, open drawers, _Floor) last asked (_floor_of)
         self._lines: dict[tuple, np.ndarray] = {}  # static paths' cells, for _near_paths
         self._discs: dict[tuple, np.ndarray] = {}  # the cells near an item, for _near_paths
         self._without: dict[tuple, tuple | None] = {}  # OccupancyGrid.joins_without's, across floors
@@ -140,9 +144,9 @@ class RoomMap:
         those waypoints only (and the robot's with them; the entrance always: a tight deposit is
         one the entrance does not reach), each as the whole map has it; every waypoint is there."""
         facts = self.poses(items, robot, sticky, avoid, out)
-        floor = [p.box() for p in items if p.on_floor] + list(out)
-        nav, static = self.grid(floor), self.grid(out)
-        self._add_paths(facts, items, nav, static, self._floor((tuple(items), self._out)), among)
+        floor_memo = self._floor_of(items)
+        _floor, nav, static, _bare = floor_memo.grids
+        self._add_paths(facts, items, nav, static, floor_memo, among)
         return facts
 
     def poses(
@@ -156,9 +160,17 @@ class RoomMap:
         """``facts`` without the pairs: the waypoints (the robot's too) and each item's grasp pose,
         with its adjustment or the items its reach waits for."""
         self._out = tuple(out)
-        floor = [p.box() for p in items if p.on_floor]
-        base_floor = floor + list(out)
-        nav, static, bare = self.grid(base_floor), self.grid(out), self.grid(base_floor, bare=True)
+        floor_memo = self._floor_of(items)
+        if floor_memo.grids is None:
+            floor = [p.box() for p in items if p.on_floor]
+            base_floor = floor + list(out)
+            floor_memo.grids = (
+                floor,
+                self.grid(base_floor),
+                self.grid(out),
+                self.grid(base_floor, bare=True),
+            )
+        floor, nav, static, bare = floor_memo.grids
         facts = MapFacts(points=dict(self.fixed), kind=dict(self.fixed_kind))
         # Reachable from where the robot is, not from the entrance: an item that fell by the door
         # shuts the entrance's cell, not the room (case III with faults had no grasp pose left),
@@ -168,7 +180,6 @@ class RoomMap:
         if robot is not None:
             q = robot[1]
             self._origin = q if nav.free(*q) else nav.nearest_free(*q)
-        floor_memo = self._floor((tuple(items), self._out))
         component = nav.component(*self._origin)
         key = (
             component,
@@ -197,6 +208,23 @@ class RoomMap:
         elif robot is not None and not any(math.dist(robot[1], q) < 0.03 for q in facts.points.values()):
             facts.points["wp-robot"], facts.kind["wp-robot"] = robot[1], "robot"
         return facts
+
+    def _floor_of(self, items: Sequence[Placed]) -> _Floor:
+        """``_floor`` of these items and the open drawers (``self._out``): the last one asked
+        at once where the items are the very same records (the belief's, kept while an item
+        is unchanged), without hashing every item (several times a turn, at 96 objects)."""
+        last = self._last_floor
+        if (
+            last is not None
+            and last[1] == self._out
+            and len(last[0]) == len(items)
+            and all(map(operator.is_, last[0], items))
+        ):
+            return last[2]
+        key = (tuple(items), self._out)
+        memo = self._floor(key)
+        self._last_floor = (key[0], self._out, memo)
+        return memo
 
     def _floor(self, key: tuple) -> _Floor:
         """The remembered work for this floor (new if it was not among the last few)."""
