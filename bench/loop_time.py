@@ -17,8 +17,11 @@ loop's median, 90th percentile and mean per action, the world's mean beside it, 
 replans' median. 12 objects are case III, a room of its own (smaller: fewer waypoints, less floor to
 see); 16, 48 and 96 are one layout, so those rows compare the number of objects alone. Each size
 runs ``--repeat`` times, the sizes taking turns (a process's first mission pays for what it loads
-once, and a busy second falls on one run, not on one size); each figure is the median over the
-runs, with the spread of the runs' means beside it.
+once, and a busy second falls on one run, not on one size). Runs of a size that made the same
+actions are one mission (one seed: the same turns, in the same order), so each turn's time is
+its least over them, the machine's noise taken out as a timer's best of several is (where the
+planner's wall-clock budget made another plan, the run least in mean is taken, and it is said);
+the spread of the runs' own means is printed beside it.
 
 Traces go under DIR (default: a new temporary folder), never over an existing file.
 """
@@ -89,7 +92,7 @@ def turns(
     from tidyplan.loop.mission import run
     from tidyplan.loop.options import Settings
 
-    own, world, replans = [], [], []
+    own, world, replans, acts = [], [], [], []
     state = {"last": None, "planning": 0.0, "n": 0, "world": 0.0}
 
     def listen(event: dict) -> None:
@@ -104,6 +107,7 @@ def turns(
                 in_world = spent - state["world"]
                 own.append(now - state["last"] - state["planning"] - in_world)
                 world.append(in_world)
+                acts.append(event.get("action"))
             state["last"], state["planning"], state["world"] = now, 0.0, spent
             state["n"] += 1
             if actions and state["n"] >= actions:
@@ -113,7 +117,7 @@ def turns(
         run(str(scenario), trace, Settings(seed=seed, world=_clocked_world()), on_event=listen)
     except _Enough:
         pass
-    return own, world, replans
+    return own, world, replans, acts
 
 
 def _p90(own: list[float]) -> float:
@@ -140,7 +144,7 @@ def main() -> int:
     out.mkdir(parents=True, exist_ok=True)
     which = f"the first {args.actions} actions" if args.actions else "every action"
     print(f"traces under {out}; {which} of each mission, seed {args.seed}, {args.repeat} runs of each size")
-    runs: dict[int, list[tuple[list[float], list[float], list[float]]]] = {size: [] for size in sizes}
+    runs: dict[int, list[tuple[list, ...]]] = {size: [] for size in sizes}
     for r in range(args.repeat):
         for size in sizes:
             scenario = _scenario(size, out)
@@ -150,7 +154,7 @@ def main() -> int:
             runs[size].append(turns(scenario, trace, args.seed, args.actions))
     print(
         "\n| objects | room | turns | loop per action: median (ms) | 90th percentile (ms) | mean (ms) "
-        "| means of the runs (ms) | the world's, mean (ms) | replans | replan median (s) |"
+        "| the runs' means (ms) | the world's, mean (ms) | replans | replan median (s) |"
     )
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for size in sizes:
@@ -159,18 +163,24 @@ def main() -> int:
         if not done:
             print(f"| {size} | {room} | 0 | - | - | - | - | - | - | - |")
             continue
-        med = statistics.median(statistics.median(own) for own, _, _ in done)
-        p90 = statistics.median(_p90(own) for own, _, _ in done)
-        means = sorted(statistics.fmean(own) for own, _, _ in done)
-        world = statistics.median(statistics.fmean(w) for _, w, _ in done)
-        replans = [t for _, _, rep in done for t in rep]
+        # runs that made the same actions are one mission (one seed, the same turns in the same
+        # order): each turn's least time over them is its time with the least of the machine's noise
+        if len({tuple(acts) for *_, acts in done}) == 1:
+            least = [min(times) for times in zip(*(own for own, *_ in done), strict=True)]
+        else:  # the planner's wall-clock budget made another plan in some run: one run's times
+            print(f"({size} objects: the runs' actions differ; the turns are those of the run least in mean)")
+            least = min((own for own, *_ in done), key=statistics.fmean)
+        med, p90 = statistics.median(least), _p90(least)
+        means = sorted(statistics.fmean(own) for own, *_ in done)
+        world = statistics.median(statistics.fmean(w) for _, w, *_ in done)
+        replans = [t for _, _, rep, _ in done for t in rep]
         rep = statistics.median(replans) if replans else float("nan")
         spread = (
             f"{means[0] * 1000:.1f}-{means[-1] * 1000:.1f}" if len(means) > 1 else f"{means[0] * 1000:.1f}"
         )
         print(
             f"| {size} | {room} | {len(done[0][0])} | {med * 1000:.1f} | {p90 * 1000:.1f} "
-            f"| {statistics.median(means) * 1000:.1f} | {spread} | {world * 1000:.1f} | {len(done[0][2])} "
+            f"| {statistics.fmean(least) * 1000:.1f} | {spread} | {world * 1000:.1f} | {len(done[0][2])} "
             f"| {rep:.3f} |"
         )
     return 0
