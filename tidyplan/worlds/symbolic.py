@@ -316,8 +316,8 @@ class SymbolicWorld(WorldReferee):
     # ------------------------------------------------------------------ helpers
     def _scene(self) -> _Scene:
         """The items in place, as looks and motions use them, kept while none of them changes
-        (``placed_edits``): at 96 items, listing, sorting and boxing them for every frame on
-        the way was a tenth of a turn."""
+        (``placed_edits``): at 96 items, listing, sorting and boxing them anew for every frame
+        on the way was a sixth of the frames' time."""
         edits = placed_edits()
         if self._kept is None or self._kept.edits != edits:
             self._kept = _Scene(self, edits)
