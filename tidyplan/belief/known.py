@@ -11,11 +11,17 @@ from dataclasses import dataclass, field
 from tidyplan.belief.mapfacts import Placed, Point
 
 SEEN_FROM_KEPT = 4  # poses an item was seen from, kept with it (Known.seen_from)
-_EDITS = [0]  # fields set on any Known so far: what the belief's views of its items are kept by
+_EDITS = [0]  # changes to what the belief's views of its items read, on any Known so far
+# what those views read (Belief.untidied: who is put away, by name; Belief.placed: each one's
+# Placed record): a look that confirms an item sets its misses, its size and its last look, and
+# changes none of them (counted, every frame's look made the views and the map's key anew)
+_VIEWED = frozenset(("name", "category", "x", "y", "on", "sx", "sy", "spread", "state"))
+_UNSET = object()
 
 
 def edits() -> int:
-    """How many times a field of any ``Known`` has been set: the same count, the same items."""
+    """How many times a field the belief's views read has changed on any ``Known``: the same
+    count, the same views."""
     return _EDITS[0]
 
 
@@ -46,9 +52,9 @@ class Known:
     _placed: Placed | None = field(default=None, repr=False, compare=False)
 
     def __setattr__(self, name: str, value) -> None:
-        object.__setattr__(self, name, value)
-        if name != "_placed":  # a record kept, not a change
+        if name in _VIEWED and getattr(self, name, _UNSET) != value:
             _EDITS[0] += 1
+        object.__setattr__(self, name, value)
 
     def placed(self) -> Placed:
         p = self._placed
