@@ -93,6 +93,7 @@ class Belief:
         self._focused: tuple[tuple, MapFacts] | None = None
         self._poses: tuple[tuple, MapFacts] | None = None
         self._untidied: tuple[tuple, list[Known], list[Placed]] = ((), [], [])  # untidied()'s
+        self._placed_arrays: tuple = ((),)  # _in_place()'s, with untidied()'s key
         # the space seen and the viewpoints to look from; it adds the map's viewpoints now
         self.exploration = Exploration(self.scenario, room, self._occluders)
 
@@ -252,20 +253,20 @@ class Belief:
             matched.add(name)
             update.new.append(name)
         boxes = None  # the believed items as occluders, built once for this look's misses
-        missed = [k for k in self.untidied() if k.state == "placed" and k.name not in matched]
+        placed, index, xy, z = self._in_place()
+        shown = np.ones(len(placed), dtype=bool)  # those in place this look did not match
+        for name in matched:
+            if name in index:
+                shown[index[name]] = False
         # the frame's field and the stops first, for all of them at once: they are cheap, the
         # line of sight is not
-        shown = np.ones(len(missed), dtype=bool)
-        if missed and (wedge or stops is not None):
-            xy = np.array([[k.x, k.y] for k in missed], dtype=float)
+        if len(placed) and (wedge or stops is not None):
             if wedge:
-                z = np.array([self._z(k) for k in missed], dtype=float)
                 shown &= self._in_frame(at, frame.heading, xy, z, miss=True, tilt=frame.tilt_deg)
             if stops is not None:
                 shown &= in_stops(at, stops, xy, self.scenario.sensing.fov_h_deg, MISS_WIDTH)
-        for k, framed in zip(missed, shown, strict=True):
-            if not framed:
-                continue
+        for n in np.flatnonzero(shown).tolist():
+            k = placed[n]
             if boxes is None:
                 boxes = self.item_boxes()
             if not self.should_see(k, at, boxes):
@@ -276,6 +277,22 @@ class Belief:
                 update.forgotten.append(k.name)
                 boxes = None  # a forgotten item hides nothing from the next
         return update
+
+    def _in_place(self) -> tuple[list[Known], dict[str, int], np.ndarray, np.ndarray]:
+        """The untidied items believed in place, in name order, their index by name, their
+        (x, y) and the heights a look aims at: kept with ``untidied`` (every frame's misses
+        ask for them)."""
+        self.untidied()
+        key = self._untidied[0]
+        if key is None or self._placed_arrays[0] != key:
+            placed = [k for k in self._untidied[1] if k.state == "placed"]
+            xy = np.array([[k.x, k.y] for k in placed], dtype=float).reshape(-1, 2)
+            z = np.array([self._z(k) for k in placed], dtype=float)
+            arrays = (key, placed, {k.name: n for n, k in enumerate(placed)}, xy, z)
+            if key is None:
+                return arrays[1:]
+            self._placed_arrays = arrays
+        return self._placed_arrays[1:]
 
     def _add(self, d: Detection) -> str:
         name = self._revive(d)
