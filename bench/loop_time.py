@@ -84,11 +84,9 @@ def _clocked_world() -> str:
     return "symbolic-clocked"
 
 
-def turns(
-    scenario: Path, trace: Path, seed: int, actions: int
-) -> tuple[list[float], list[float], list[float]]:
+def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list, list, list, list]:
     """(the loop's own wall seconds of each turn, the world's seconds in each, each replan's
-    seconds) of a symbolic mission's first ``actions`` actions (0: all of them)."""
+    seconds, each turn's action) of a symbolic mission's first ``actions`` actions (0: all)."""
     from tidyplan.loop.mission import run
     from tidyplan.loop.options import Settings
 
