@@ -380,7 +380,7 @@ class RoomMap:
 
     def _find_blockers(self, items, pairs: list[tuple[Point, Point]], floor_memo: _Floor) -> None:
         floor = [p for p in items if p.on_floor]
-        nav = self.grid([p.box() for p in floor] + list(self._out))
+        nav = floor_memo.grids[1]  # the floor's navigation grid, kept with it (poses made it)
         # Whether taking one item away joins a pair depends on the components its two ends are
         # in, where an end stands in one (an end no cell of the grid holds: on that end): pairs
         # of the same two components get one answer (a two-room floor: thousands of pairs, a
