@@ -121,7 +121,7 @@ class GraspPoses:
                 and was.level < 3
                 and (was.item, was.avoided) == (p, bad)
                 and (was.kept == previous or held(i) is not None)
-                and not (moved and self._moved_near(p, was.level, held(i), moved))
+                and not (moved and self._moved_near(p, was.level, held(i), moved, reach))
                 and (was.level == 1 or self._room_of(p, static) == was.room)
             ):
                 answer = was if was.kept == previous else was._replace(kept=previous)
@@ -201,14 +201,29 @@ class GraspPoses:
             return None
         return self._ring_index(p.xy).get(previous)
 
-    def _moved_near(self, p: Placed, level: int, k: int | None, moved: Taken) -> bool:
+    def _moved_near(self, p: Placed, level: int, k: int | None, moved: Taken, reach: np.ndarray) -> bool:
         """Whether a pose that changed since the last choice may change ``p``'s: one within
-        0.1 m of a cell of its ring; of the kept pose's cell, for a pose reached now and kept
-        (a pose gone frees cells, and the kept one is taken while usable)."""
+        0.1 m of a cell of its ring; for a pose kept, of the kept pose's cell (a pose gone frees
+        cells, and the kept one is taken while usable) or, for one reached once others are
+        cleared, of a cell reached now (freed, it may be a pose reached now: ``_freed``)."""
         near = moved.near(p.xy, TAKEN_NEAR)
         if k is not None and level == 1:
             return any(k in self._ruled_out(p.xy, q) for q in near)
+        if k is not None and level == 2:
+            return any(self._freed(p, k, self._ruled_out(p.xy, q), reach) for q in near)
         return any(self._rules_out(p.xy, q) for q in near)
+
+    def _freed(self, p: Placed, k: int, cells: np.ndarray, reach: np.ndarray) -> bool:
+        """For a pose reached once others are cleared and kept (cell ``k`` of ``p``'s ring):
+        whether a change at these ring cells may change the answer. The kept pose stays while
+        the robot reaches it with only ``p`` on the floor, which no floor item or other pose
+        changes; so only a change at its own cell (what it waits for, whether it is ruled out)
+        matters, or at a cell the robot reaches now (no longer waiting or ruled out, it would
+        be a pose reached now, which wins). A cell reached now that was not, ``_stale``'s reach
+        test sees."""
+        if not len(cells):
+            return False
+        return bool(k in cells or reach[self._ring_cells(p.xy)[cells]].any())
 
     def _stale(
         self,
@@ -224,7 +239,8 @@ class GraspPoses:
         ring or stands on a cell of it, a cell of its ring reached then and not now or the other
         way. For an answer that is the pose kept (``held``: its cell), less: a floor item come
         matters only over that cell (elsewhere it only takes cells away, and the kept pose is
-        taken while usable); one gone, not for a pose reached now; a cell no longer reached,
+        taken while usable); one gone, not for a pose reached now, and for one reached once
+        others are cleared only over that cell or a cell reached now (``_freed``); a cell no longer reached,
         only that one; a cell reached now that was not, for a pose reached now not at all.
         (The item itself, its kept and avoided poses and the poses taken near it, ``choose``
         compares.)"""
@@ -249,8 +265,8 @@ class GraspPoses:
                         stale[i] = bool(len(cross) or len(under))
                     elif keys[j] in floor:  # come since: over the kept pose's cell?
                         stale[i] = bool(k in cross or k in under)
-                    else:  # gone: it may free cells of the ring, which a pose reached now ignores
-                        stale[i] = self._last.answers[p.name].level == 2 and bool(len(cross) or len(under))
+                    elif self._last.answers[p.name].level == 2:  # gone: the cells it freed
+                        stale[i] = self._freed(p, k, np.union1d(cross, under), reach)
         flipped = (reach != self._last.reach).reshape(nav.shape)
         if flipped.any():  # the flipped cells in each ring's square (a cell to spare), summed
             sums = np.zeros((nav.shape[0] + 1, nav.shape[1] + 1), dtype=np.int64)
