@@ -237,3 +237,39 @@ def test_the_items_not_put_away_follow_every_change_of_an_item_or_of_who_is_beli
     belief.forget(book)
     same("forgotten")
     assert belief.untidied() == [] and belief.placed() == []
+
+
+def test_a_sweeps_expected_finds_per_stop_are_the_whole_views_whether_it_is_kept_or_not():
+    """The share of the unseen placement points each stop of a sweep shows (and the sweep's
+    share, their sum) is read off the whole view where one is kept, else off the unseen points'
+    line of sight alone: both give what the whole view's definition gives, at random poses of
+    two generated rooms with random parts of them seen."""
+    from tidyplan.belief.percepts import SWEEP_STOPS
+    from tidyplan.generate.rooms import generate
+
+    checked = 0
+    for seed in (0, 1):
+        scenario = generate("two", seed, per_room=4)
+        belief = Belief(scenario, RoomMap(scenario))
+        x = belief.exploration
+        rng = np.random.default_rng(seed)
+        free = belief.room.grid(()).free_cells()
+        for turn in range(30):
+            x.seen[:] = rng.random(len(x.seen)) < rng.choice([0.0, 0.5, 0.9, 0.99])
+            at = free[int(rng.integers(len(free)))]
+            if turn % 3 == 0:
+                x.view(at)  # kept for a third of the poses: the other way of reading it
+            unseen = ~x.seen
+            shown = x.view(at) & unseen
+            total = int(unseen.sum())
+            pts = x.targets[:, :2]
+            bearing = np.arctan2(pts[:, 1] - at[1], pts[:, 0] - at[0]) % (2 * math.pi)
+            stop = np.rint(bearing / (2 * math.pi / len(SWEEP_STOPS))).astype(int) % len(SWEEP_STOPS)
+            want = [(h, float((shown & (stop == i)).sum()) / total) for i, h in enumerate(SWEEP_STOPS)]
+            x._view_cache.pop((round(at[0], 3), round(at[1], 3), x.sensing.range_max))
+            if turn % 3 == 0:
+                x.view(at)
+            assert x.stop_shares(at) == want
+            assert x.unseen_share(at) == float(shown.sum()) / total
+            checked += sum(f > 0 for _, f in want)
+    assert checked  # some stop showed unseen points: the test is of something
