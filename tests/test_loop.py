@@ -452,3 +452,34 @@ def test_a_goal_not_planned_in_time_is_not_reported_as_proven(tmp_path):
     outcome = mission.run()
     assert not outcome.success
     assert "not planned in time, unproven" in outcome.reason
+
+
+def test_what_a_mission_built_is_frozen_from_its_first_plan_and_given_back_at_its_end(tmp_path, monkeypatch):
+    """The collector's full passes skip what the mission built by each plan adopted (frozen
+    while it runs), and every object is the collector's again when it ends; in a process that
+    froze objects of its own, the mission freezes nothing and leaves them frozen."""
+    import gc
+
+    seen = []
+    real = MonitoredExecutor.execute
+
+    def execute(self, step, snapshot, belief, observe):
+        seen.append(gc.get_freeze_count())
+        return real(self, step, snapshot, belief, observe)
+
+    monkeypatch.setattr(MonitoredExecutor, "execute", execute)
+    gc.unfreeze()  # a process that froze nothing (harmless here: it only undoes a freeze)
+    summary, _ = _run(tmp_path, _scenario("plain", [("t1", 1.8, 1.0)]))
+    assert summary["success"] and seen and all(n > 0 for n in seen)
+    assert gc.get_freeze_count() == 0  # given back
+
+    seen.clear()
+    gc.freeze()  # the host's own
+    try:
+        held = gc.get_freeze_count()
+        summary, _ = _run(tmp_path / "second", _scenario("plain", [("t1", 1.8, 1.0)]))
+        # (the host's frozen objects that die are freed as ever: the count only falls)
+        assert summary["success"] and seen and all(n <= held for n in seen)
+        assert 0 < gc.get_freeze_count() <= held
+    finally:
+        gc.unfreeze()
