@@ -240,8 +240,9 @@ class GraspPoses:
         way. For an answer that is the pose kept (``held``: its cell), less: a floor item come
         matters only over that cell (elsewhere it only takes cells away, and the kept pose is
         taken while usable); one gone, not for a pose reached now, and for one reached once
-        others are cleared only over that cell or a cell reached now (``_freed``); a cell no longer reached,
-        only that one; a cell reached now that was not, for a pose reached now not at all.
+        others are cleared only over that cell or a cell reached now (``_freed``); a cell no
+        longer reached, only that one; a cell reached now that was not, for a pose reached now
+        not at all.
         (The item itself, its kept and avoided poses and the poses taken near it, ``choose``
         compares.)"""
         if self._last is None or self._last.out != out or self._last.reach.shape != reach.shape:
