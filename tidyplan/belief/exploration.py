@@ -70,16 +70,17 @@ class Exploration:
                 at, frame.heading, self.targets[:, :2], self.targets[:, 2], self.sensing, 1.0, 0.0,
                 frame.tilt_deg,
             )  # fmt: skip
-            self.seen[np.flatnonzero(field)[self._frame_view(at, field)]] = True
+            self.seen[self._in_sight(at, np.flatnonzero(field))] = True
 
-    def _frame_view(self, at: Point, field: np.ndarray) -> np.ndarray:
-        """Of the placement points in a frame's ``field``, those in range and line of sight."""
+    def _in_sight(self, at: Point, idx: np.ndarray) -> np.ndarray:
+        """Of the placement points ``idx`` (indices), those in range and line of sight from
+        ``at`` (each point's sight is its own: a few need not cost the whole view)."""
         s = self.sensing
-        support = [self.support[n] for n in np.flatnonzero(field)]
-        return visible_points(
-            self.camera(at), self.targets[field], self.occluders, support,
+        sight = visible_points(
+            self.camera(at), self.targets[idx], self.occluders, [self.support[n] for n in idx],
             range_min=s.range_min, range_max=s.range_max,
         )  # fmt: skip
+        return idx[sight]
 
     # ------------------------------------------------------------------ where to look
     def p_item_near(self, facts: MapFacts) -> dict[str, float]:
@@ -122,19 +123,13 @@ class Exploration:
 
     def _unseen_in_view(self, at: Point, unseen: np.ndarray) -> np.ndarray:
         """The unseen placement points (indices) in line of sight and range from ``at``: the view
-        kept where there is one, else the line of sight to the unseen points only (each point's
-        sight is its own; a whole view, for the points seen too, was 2.5 ms of a turn at a pose
-        met for the first time, most of the room seen by then)."""
+        kept where there is one, else the line of sight to the unseen points only (a whole view,
+        for the points seen too, was 2.5 ms of a turn at a pose met for the first time, most of
+        the room seen by then)."""
         key = _view_key(at, self.sensing.range_max)
         if key in self._view_cache:
             return np.flatnonzero(self._view_cache[key] & unseen)
-        idx = np.flatnonzero(unseen)
-        s = self.sensing
-        sight = visible_points(
-            self.camera(at), self.targets[idx], self.occluders, [self.support[n] for n in idx],
-            range_min=s.range_min, range_max=s.range_max,
-        )  # fmt: skip
-        return idx[sight]
+        return self._in_sight(at, np.flatnonzero(unseen))
 
     # ------------------------------------------------------------------ rounds and viewpoints
     def reset(self) -> None:

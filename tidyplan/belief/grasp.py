@@ -287,7 +287,7 @@ class GraspPoses:
             )
             square = (sums[i1, j1] - sums[i0, j1] - sums[i1, j0] + sums[i0, j0]) > 0
             # of those with one in the square, those with one on the ring (what the key reads)
-            flat, now = flipped.ravel(), reach
+            flat = flipped.ravel()
             for i in np.nonzero(square & ~stale)[0].tolist():
                 cells, k = self._ring_cells(items[i].xy), held(i)
                 if k is None:
@@ -295,7 +295,7 @@ class GraspPoses:
                 elif self._last.answers[items[i].name].level == 1:  # the kept cell no longer reached
                     stale[i] = bool(flat[cells[k]])
                 else:  # a cell reached now that was not
-                    stale[i] = bool((flat[cells] & now[cells]).any())
+                    stale[i] = bool((flat[cells] & reach[cells]).any())
         return stale
 
     def _add_grasp(

@@ -129,7 +129,7 @@ def crossing_cells(ring: np.ndarray, cells: np.ndarray, at: Point, box: Box) -> 
     if not len(cells):
         return cells
     a = ring[cells]
-    # steps per segment from math.dist's length (numpy's numpy's where no whole
+    # steps per segment from math.dist's length (numpy's where no whole
     # number of 2 cm steps lies within 1e-9 of it, math.dist's where one may)
     steps = np.hypot(a[:, 0] - at[0], a[:, 1] - at[1]) / 0.02
     n = np.floor(steps).astype(np.int64)

@@ -31,9 +31,9 @@ from tidyplan.belief.state import Belief
 # with its close look and base adjustment, a put into a deposit, a pull of a drawer's handle; a
 # drive takes STOP_S beyond its length over the base's speed, as the planner's costs have it.
 # Neither the domain's costs (5.7 / 10.2 / 13.5) nor today's means (a take 5.3 s): the route has
-# no looks or replans in it, and its take's extra second stands for them (with the domain's, two of the ten
-# Task 1 rooms of docs/results.md scored less within 900 s in pybullet, 530 to 480 and 510 to
-# 490, each again when run alone; the others the same)
+# no looks or replans in it, and its take's extra second stands for them (with the domain's,
+# two of the ten Task 1 rooms of docs/results.md scored less within 900 s in pybullet, 530 to
+# 480 and 510 to 490, each again when run alone; the others the same)
 TAKE_S, PUT_S, PULL_S = 6.7, 10.3, 13.1
 POINTS, ORIENTATION_POINTS, DRAWERS_POINTS = 20.0, 10.0, 50.0  # tidyplan.trace.score's rulebook
 
