@@ -14,12 +14,13 @@ Invariants, relied on by callers that compare runs byte for byte (bench/tidygen.
 - every choice among equals (nearest cell) breaks ties by cell index, so results are a
   function of the inputs alone.
 
-Imports: sim.box (the footprints it inflates).
+Imports: sim.box (the footprints it inflates), sim.carried (the lengths a changed grid keeps).
 """
 
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Iterable, Sequence
 
 import numpy as np
@@ -28,6 +29,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from sim.box import Box
+from sim.carried import Known, carried
 
 CELL = 0.05  # m: 5 cm resolves the ~0.2 m gaps between WRS items and keeps the graph small
 # The robot as a disc: half the HSR's footprint of about 0.43 m across (docs/sources.md; a
@@ -78,6 +80,10 @@ class OccupancyGrid:
         self._reach: dict[int, list[Point]] = {}  # free_cells(reachable_from), by component
         self._local: dict[tuple, tuple | None] = {}  # _without's answers (no memo of the caller's)
         self._spans: tuple[np.ndarray, list[Box]] | None = None  # _obstacle_spans
+        # the lengths length_matrix gave between cells (NaN: unreachable), for a grid changed
+        # from this one; and the grid this one was changed from, with the cells freed and shut
+        self._known: Known | None = None
+        self._before: tuple[weakref.ref, np.ndarray, np.ndarray] | None = None
 
     # ------------------------------------------------------------------ cells and points
     def xy(self, i: int, j: int) -> Point:
@@ -185,31 +191,62 @@ class OccupancyGrid:
 
     def length_matrix(self, points: Sequence[Point]) -> np.ndarray:
         """``path_lengths`` as an array: [k, m] the length from points[k] to points[m], NaN where
-        unreachable (or either is not free). One gather per row, not a call per pair."""
+        unreachable (or either is not free). One gather per row, not a call per pair. On a grid
+        ``changed`` from another, the pairs the change cannot touch keep the lengths that one
+        gave them (``sim.carried``): only the rows of points with a pair it may touch are
+        searched (after a floor item is taken, most of the waypoints' rows)."""
         cells = [self.cell(*p) for p in points]
         free = np.array([self._free_cell(c) for c in cells], dtype=bool)
         node = self._node
         idx = np.array([node[c] if ok else 0 for c, ok in zip(cells, free, strict=True)], dtype=np.int64)
         out = np.full((len(cells), len(cells)), np.nan)
-        for k, row in enumerate(self._rows(cells)):
-            if row is not None:
-                out[k] = row[idx]
+        before = self._before[0]() if self._before is not None else None
+        both = free[:, None] & free[None, :]
+        if before is not None:
+            old, proven = carried(before, self._before[1], self._before[2], cells, self._labels)
+            out[proven] = old[proven]
+            left = both & ~proven
+        else:
+            left = both.copy()
+        # The graph is undirected: a row gives its column too. The rows kept from before are
+        # read; then the rows searched are those of the points with the most pairs left, until
+        # none is (a new point: its row; a pair the change may touch: one of its two). A pair
+        # both of whose rows are read takes its first point's, as a search from each would.
+        left |= left.T
+        search = [k for k in range(len(cells)) if free[k] and cells[k] in self._lengths]  # kept: free
+        for k in search:
+            left[k, :] = left[:, k] = False
+        while left.any():
+            k = int(np.argmax(left.sum(axis=1)))
+            search.append(k)
+            left[k, :] = left[:, k] = False
+        rows = self._rows([cells[k] for k in search])
+        for k, row in zip(search, rows, strict=True):
+            out[:, k] = row[idx]
+        for k, row in zip(search, rows, strict=True):
+            out[k] = row[idx]
         out[:, ~free] = np.nan
+        out[~free, :] = np.nan
         out[~np.isfinite(out)] = np.nan
+        self._keep(cells, free, out)
         return out
+
+    def _keep(self, cells: list[Cell], free: np.ndarray, out: np.ndarray) -> None:
+        """Remember ``length_matrix``'s answer among the free ``cells`` (``_known``)."""
+        if self._known is None:
+            self._known = Known(self.shape)
+        at = np.array(cells, dtype=np.int64).reshape(-1, 2)[free]
+        self._known.put(at, out[np.ix_(free, free)])
 
     def lengths_both_ways(
         self, a: Point, points: Sequence[Point]
     ) -> tuple[list[float | None], list[float | None]]:
-        """``path_length`` from a to each of ``points`` and from each of them to a, each read from
-        its source's row as ``path_lengths`` reads it (the rows of ``points`` are usually kept)."""
-        cells = [self.cell(*p) for p in points]
-        ca = self.cell(*a)
-        rows = self._rows([ca, *cells])
-        row_a, others = rows[0], rows[1:]
-        there = [None] * len(cells) if row_a is None else [self._at(row_a, c) for c in cells]
-        back = [None if row is None else self._at(row, ca) for row in others]
-        return there, back
+        """``path_length`` from a to each of ``points`` and from each of them to a: one search,
+        from a. The graph is undirected, so a length back is the length there (a search from
+        each of ``points`` summed the same steps in the other order: a length differs, if at
+        all, in its last bits, and the map's facts round to the centimetre)."""
+        there = self.lengths_from(a, points)
+        return there, list(there)
 
     def lengths_from(self, a: Point, points: Sequence[Point]) -> list[float | None]:
         """``path_length`` from a to each of ``points``, with one Dijkstra."""
@@ -436,7 +473,11 @@ class OccupancyGrid:
                 (i0, i1, j0, j1), x, y = window
                 free[i0:i1, j0:j1] &= self._clear_of((box,), x, y)
         free.flags.writeable = False
-        return OccupancyGrid(self.bounds, obstacles, cell=self.cell_size, radius=self.radius, mask=free)
+        grid = OccupancyGrid(self.bounds, obstacles, cell=self.cell_size, radius=self.radius, mask=free)
+        # its lengths may be carried from this one's (length_matrix); weakly: a chain of floors
+        # must not keep every grid before it alive
+        grid._before = (weakref.ref(self), free & ~self.mask, self.mask & ~free)
+        return grid
 
     def with_obstacles(self, boxes: Iterable[Box]) -> OccupancyGrid:
         """A new grid with ``boxes`` added (e.g. objects seen on the floor); this one is unchanged."""

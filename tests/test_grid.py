@@ -240,10 +240,28 @@ def test_a_remembered_tree_costs_a_few_bytes_per_free_cell():
     assert grown / (len(sources) * len(cells)) < 8
 
 
+def _same_lengths(got, want) -> bool:
+    """Two tables of lengths (NaN or None: unreachable) agree: the same pairs unreachable, the
+    others within 1e-9 m (a length read from the other end's search sums the same steps in
+    another order)."""
+
+    def table(lengths):
+        rows = np.asarray(lengths, dtype=float).tolist()  # None: NaN
+        return [[None if math.isnan(v) else v for v in row] for row in rows]
+
+    got, want = table(got), table(want)
+    return all(
+        (a is None) == (b is None) and (a is None or abs(a - b) <= 1e-9)
+        for ra, rb in zip(got, want, strict=True)
+        for a, b in zip(ra, rb, strict=True)
+    )
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_the_length_matrix_and_both_ways_are_path_lengths_read_another_way(seed):
-    """``length_matrix`` (NaN for None) and ``lengths_both_ways`` give ``path_lengths``' values,
-    exactly: points free and not, in two components, the same cell twice."""
+    """``length_matrix`` (NaN for None) and ``lengths_both_ways`` give ``path_lengths``' values:
+    points free and not, in two components, the same cell twice. A length there is read from
+    its source's search, exactly; one read from the other end's, to the last bits."""
     import random
 
     rng = random.Random(seed)
@@ -255,12 +273,45 @@ def test_the_length_matrix_and_both_ways_are_path_lengths_read_another_way(seed)
     points.append(points[0])
     want = grid.path_lengths(points)
     got = grid.length_matrix(points)
-    assert [[None if math.isnan(v) else v for v in row] for row in got.tolist()] == want
+    assert _same_lengths(got, want)
     assert any(v is None for row in want for v in row) and any(v for row in want for v in row)
     for k, a in enumerate(points):
         there, back = grid.lengths_both_ways(a, points)
         assert there == want[k]
-        assert back == [row[k] for row in want]
+        assert _same_lengths([back], [[row[k] for row in want]])
+
+
+@pytest.mark.parametrize("seed", range(16))
+def test_a_changed_grid_keeps_the_lengths_a_change_cannot_touch_and_searches_for_the_rest(seed):
+    """A floor after floor of boxes taken away and added (``changed``): each floor's
+    ``length_matrix`` among the same points (and a few new ones) is a grid made anew's, though
+    it searches only from some of them (``sim.carried``'s bounds keep the rest)."""
+    import random
+
+    rng = random.Random(seed)
+
+    def box(k):
+        x, y = rng.uniform(0.3, 3.7), rng.uniform(0.3, 2.7)
+        return Box(x, y, *(rng.uniform(0.1, 0.6) for _ in "xy"), f"b{k}")
+
+    boxes = [box(k) for k in range(rng.randint(6, 14))]
+    points = [(rng.uniform(0.0, 4.0), rng.uniform(0.0, 3.0)) for _ in range(20)]
+    grid = OccupancyGrid(ROOM, boxes, radius=R)
+    grid.length_matrix(points)
+    searched, asked = 0, 0
+    for step in range(8):
+        gone = rng.sample(boxes, min(len(boxes), rng.choice([1, 1, 1, 2, 0])))
+        new = [box(100 * seed + 10 * step + k) for k in range(rng.choice([0, 0, 1, 2]))]
+        after = [b for b in boxes if b not in gone] + new
+        changed = grid.changed(after, gone, new)
+        points = points[rng.randint(0, 2) :] + [(rng.uniform(0.0, 4.0), rng.uniform(0.0, 3.0))]
+        got = changed.length_matrix(points)
+        fresh = OccupancyGrid(ROOM, after, radius=R)
+        assert _same_lengths(got, fresh.path_lengths(points)), (step, gone, new)
+        searched += len(changed._lengths)
+        asked += sum(changed.free(*p) for p in points)
+        grid, boxes = changed, after
+    assert searched < asked / 2  # most rows kept: the bounds prove most pairs untouched
 
 
 def test_the_free_cells_near_a_point_are_those_of_its_component_there():

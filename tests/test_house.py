@@ -47,8 +47,9 @@ def _unit(module: str) -> str:
     top-level module itself (``tidyplan.errors``, ``tidyplan.library``)."""
     parts = module.split(".")
     if parts[0] == "sim":
-        # the bottom of sim: the footprint (box), the grid over it, the scenario format over both
-        if parts[1:2] in (["scenario"], ["grid"], ["box"]):
+        # the bottom of sim: the footprint (box), the grid over it (and the lengths a changed
+        # grid keeps, carried), the scenario format over both
+        if parts[1:2] in (["scenario"], ["grid"], ["box"], ["carried"]):
             return f"sim.{parts[1]}"
         return "sim"
     if len(parts) == 1:

@@ -359,10 +359,10 @@ class RoomMap:
         facts.points[bname], facts.kind[bname] = base, "adjust"
         d = round(math.dist(base, target), 2)
         facts.adjust[(bname, name)] = facts.adjust[(name, bname)] = d
-        for other, q in facts.points.items():
-            if other == bname or facts.kind[other] == "adjust":
-                continue
-            length = nav.path_length(q, base)
+        others = [o for o in facts.points if o != bname and facts.kind[o] != "adjust"]
+        # one search, from the base (the graph is undirected: the length there is the length back)
+        lengths = nav.lengths_from(base, [facts.points[o] for o in others])
+        for other, length in zip(others, lengths, strict=True):
             if length is not None:
                 facts.path[(other, bname)] = facts.path[(bname, other)] = round(length, 2)
 
