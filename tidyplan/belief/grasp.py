@@ -260,7 +260,9 @@ class GraspPoses:
             for i, j in zip(*np.nonzero(near), strict=True):
                 p = items[i]
                 if not stale[i] and keys[j][4] != p.name:
-                    cross, under = self._pair(p, Box(*keys[j]), keys[j], self._ring(p.xy))
+                    # kept, most often: a Box is made only for a pair not met before
+                    hit = self._pairs.get((p.xy, keys[j]))
+                    cross, under = hit or self._pair(p, Box(*keys[j]), keys[j], self._ring(p.xy))
                     k = held(i)
                     if k is None:
                         stale[i] = bool(len(cross) or len(under))
