@@ -521,30 +521,26 @@ class OccupancyGrid:
 
     @property
     def _matrix(self) -> csr_matrix:
-        """The 8-connected graph's edges (to higher neighbours) as a sparse matrix of weights."""
+        """The 8-connected graph's edges (to higher neighbours) as a sparse matrix of weights:
+        each free cell's row holds its neighbours right, down-left, down and down-right (higher
+        cells, in ``_node`` order, so the row's columns are sorted). Made as arrays directly,
+        not from a list of pairs (the conversion's sort was most of a new floor's graph)."""
         if self._csr is None:
             n_i, n_j = self.shape
             node = self._node
             diagonal = self.cell_size * math.sqrt(2)
-            rows, cols, weights = [], [], []
-            for di, dj, w in (
-                (1, 0, self.cell_size),
-                (0, 1, self.cell_size),
-                (1, 1, diagonal),
-                (1, -1, diagonal),
-            ):
-                i, j = np.nonzero(self.mask)
-                a, b = i + di, j + dj
-                ok = (a >= 0) & (a < n_i) & (b >= 0) & (b < n_j)
-                i, j, a, b = i[ok], j[ok], a[ok], b[ok]
-                ok = self.mask[a, b]
-                rows.append(node[i[ok], j[ok]])
-                cols.append(node[a[ok], b[ok]])
-                weights.append(np.full(int(ok.sum()), w))
-            n = int(self.mask.sum())
-            self._csr = csr_matrix(
-                (np.concatenate(weights), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
-            )
+            # the node of each cell, -1 beyond the grid's edges and where not free
+            padded = np.full((n_i + 1, n_j + 2), -1, dtype=np.int64)
+            padded[:n_i, 1 : n_j + 1] = node
+            i, j = np.nonzero(self.mask)
+            j = j + 1
+            steps = ((0, 1, self.cell_size), (1, -1, diagonal), (1, 0, self.cell_size), (1, 1, diagonal))
+            neighbours = np.stack([padded[i + di, j + dj] for di, dj, _w in steps], axis=1)
+            weights = np.broadcast_to(np.array([w for *_d, w in steps]), neighbours.shape)
+            ok = neighbours >= 0
+            indptr = np.zeros(len(i) + 1, dtype=np.int64)
+            np.cumsum(ok.sum(axis=1), out=indptr[1:])
+            self._csr = csr_matrix((weights[ok], neighbours[ok], indptr), shape=(len(i), len(i)))
         return self._csr
 
     def _tree(self, c: Cell) -> np.ndarray:

@@ -433,3 +433,36 @@ def test_a_grid_changed_by_a_box_or_two_is_the_grid_made_anew(seed):
         assert (changed.mask == fresh.mask).all(), (step, gone, new)
         assert changed.obstacles == fresh.obstacles
         grid, boxes = changed, after
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_the_graph_made_as_arrays_is_the_one_made_from_its_pairs(seed):
+    """``_matrix`` (each free cell's higher neighbours, built as CSR arrays directly) is the
+    sparse matrix scipy makes from the list of edges, entry for entry and in the same order: the
+    searches over it, and so every path and tie, are as they were."""
+    import random
+
+    from scipy.sparse import csr_matrix
+
+    rng = random.Random(seed)
+    boxes = [
+        Box(rng.uniform(0.0, 4.0), rng.uniform(0.0, 3.0), rng.uniform(0.05, 0.8), rng.uniform(0.05, 0.8), "b")
+        for _ in range(rng.randint(0, 12))
+    ]
+    grid = OccupancyGrid(ROOM, boxes, radius=rng.choice([0.05, R]))
+    n_i, n_j = grid.shape
+    rows, cols, weights = [], [], []
+    for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):
+        for i, j in zip(*np.nonzero(grid.mask), strict=True):
+            a, b = i + di, j + dj
+            if 0 <= a < n_i and 0 <= b < n_j and grid.mask[a, b]:
+                rows.append(grid._node[i, j])
+                cols.append(grid._node[a, b])
+                weights.append(grid.cell_size * (math.sqrt(2) if di and dj else 1.0))
+    n = int(grid.mask.sum())
+    want = csr_matrix((weights, (rows, cols)), shape=(n, n))
+    got = grid._matrix
+    assert got.shape == want.shape
+    assert got.indptr.tolist() == want.indptr.tolist()
+    assert got.indices.tolist() == want.indices.tolist()
+    assert got.data.tolist() == want.data.tolist()
