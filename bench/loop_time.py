@@ -15,15 +15,20 @@ calls (the simulator's, which on the robot is the robot's: the world is run as a
 of its own, the symbolic world with each call clocked). Printed per size, in milliseconds: the
 loop's median, 90th percentile and mean per action, the mean over the turns that did not
 replan (one that did also pays, past its plan event, what the new plan first asks of the map:
-its waypoints' pairs, the problem's copies in the trace), the world's mean beside it, and the
-replans' median. 12 objects are case III, a room of its own (smaller: fewer waypoints, less floor to
-see); 16, 48 and 96 are one layout, so those rows compare the number of objects alone. Each size
-runs ``--repeat`` times, the sizes taking turns (a process's first mission pays for what it loads
-once, and a busy second falls on one run, not on one size). Runs of a size that made the same
-actions are one mission (one seed: the same turns, in the same order), so each turn's time is
-its least over them, the machine's noise taken out as a timer's best of several is (where the
-planner's wall-clock budget made another plan, the run least in mean is taken, and it is said);
-the spread of the runs' own means is printed beside it.
+its waypoints' pairs, the problem's copies in the trace), and of those the mean of the turns
+that left the map's floor as it was and of those that made the map work out a new one (an item
+taken, put down, seen or moved, on the floor or on furniture: what the map's facts are made
+from; counted by wrapping ``RoomMap._floor``) with their share: what a turn costs by what it
+changed; the world's mean beside it, and the replans' median. 12 objects are case III, a room
+of its own (smaller: fewer waypoints, less floor to see); 16, 48 and 96 are one layout, so those
+rows compare the number of objects alone (in the same two rooms: more of them lie on the floor,
+9 of 16, 73 of 96, and more actions change it). Each size runs ``--repeat`` times, the sizes
+taking turns (a process's first mission pays for what it loads once, and a busy second falls on
+one run, not on one size). Runs of a size that made the same actions are one mission (one
+seed: the same turns, in the same order), so each turn's time is its least over them, the
+machine's noise taken out as a timer's best of several is (where the planner's wall-clock budget
+made another plan, the run least in mean is taken, and it is said); the spread of the runs' own
+means is printed beside it.
 
 Traces go under DIR (default: a new temporary folder), never over an existing file.
 """
@@ -86,15 +91,36 @@ def _clocked_world() -> str:
     return "symbolic-clocked"
 
 
-def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list, list, list, list, list]:
+_FLOORS = {"new": 0}  # floors (placed items) the map worked out that it did not keep
+
+
+def _counted_floors() -> None:
+    """Count each floor the map meets that it does not keep (the placed items changed: one
+    taken, put down, seen or moved), by wrapping ``RoomMap._floor``, once."""
+    from tidyplan.belief.geometry import RoomMap
+
+    if getattr(RoomMap._floor, "counted", False):
+        return
+    floor = RoomMap._floor
+
+    def counted(self, key):
+        _FLOORS["new"] += key not in self._floors
+        return floor(self, key)
+
+    counted.counted = True
+    RoomMap._floor = counted
+
+
+def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list, ...]:
     """(the loop's own wall seconds of each turn, the world's seconds in each, each replan's
-    seconds, each turn's action, whether each turn replanned) of a symbolic mission's first
-    ``actions`` actions (0: all)."""
+    seconds, each turn's action, whether each turn replanned, whether each made a new floor)
+    of a symbolic mission's first ``actions`` actions (0: all)."""
     from tidyplan.loop.mission import run
     from tidyplan.loop.options import Settings
 
-    own, world, replans, acts, replanned = [], [], [], [], []
-    state = {"last": None, "planning": 0.0, "n": 0, "world": 0.0, "plans": 0}
+    _counted_floors()
+    own, world, replans, acts, replanned, floors = [], [], [], [], [], []
+    state = {"last": None, "planning": 0.0, "n": 0, "world": 0.0, "plans": 0, "floors": _FLOORS["new"]}
 
     def listen(event: dict) -> None:
         kind = event.get("kind")
@@ -111,7 +137,9 @@ def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list, l
                 world.append(in_world)
                 acts.append(event.get("action"))
                 replanned.append(state["plans"] > 0)
+                floors.append(_FLOORS["new"] > state["floors"])
             state["last"], state["planning"], state["world"], state["plans"] = now, 0.0, spent, 0
+            state["floors"] = _FLOORS["new"]
             state["n"] += 1
             if actions and state["n"] >= actions:
                 raise _Enough
@@ -120,7 +148,7 @@ def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list, l
         run(str(scenario), trace, Settings(seed=seed, world=_clocked_world()), on_event=listen)
     except _Enough:
         pass
-    return own, world, replans, acts, replanned
+    return own, world, replans, acts, replanned, floors
 
 
 def _p90(own: list[float]) -> float:
@@ -157,29 +185,38 @@ def main() -> int:
             runs[size].append(turns(scenario, trace, args.seed, args.actions))
     print(
         "\n| objects | room | turns | loop per action: median (ms) | 90th percentile (ms) | mean (ms) "
-        "| mean, turns without a replan (ms) | the runs' means (ms) | the world's, mean (ms) | replans "
-        "| replan median (s) |"
+        "| mean, turns without a replan (ms) | of those, floor kept: mean (ms) | new floor: mean (ms), "
+        "share | the runs' means (ms) | the world's, mean (ms) | replans | replan median (s) |"
     )
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for size in sizes:
         room = "case III" if size == 12 else "two rooms"
         done = [run for run in runs[size] if run[0]]
         if not done:
-            print(f"| {size} | {room} | 0 | - | - | - | - | - | - | - | - |")
+            print(f"| {size} | {room} | 0 | - | - | - | - | - | - | - | - | - | - |")
             continue
         # runs that made the same actions are one mission (one seed, the same turns in the same
         # order): each turn's least time over them is its time with the least of the machine's noise
         if len({tuple(run[3]) for run in done}) == 1:
             least = [min(times) for times in zip(*(run[0] for run in done), strict=True)]
-            replanned = done[0][4]
+            replanned, new_floor = done[0][4], done[0][5]
         else:  # the planner's wall-clock budget made another plan in some run: one run's times
             print(f"({size} objects: the runs' actions differ; the turns are those of the run least in mean)")
-            least, *_, replanned = min(done, key=lambda run: statistics.fmean(run[0]))
+            least, *_, replanned, new_floor = min(done, key=lambda run: statistics.fmean(run[0]))
         med, p90 = statistics.median(least), _p90(least)
         # a turn that replanned also pays what the new plan asks of the map first (its
         # waypoints' pairs, the problem's copies in the trace): apart, the turns of monitoring only
         quiet = [t for t, again in zip(least, replanned, strict=True) if not again]
         quiet_mean = f"{statistics.fmean(quiet) * 1000:.1f}" if quiet else "-"
+        # of those, the turns that made the map work out a new floor (an item taken, put down,
+        # seen or moved) and the rest: what a turn costs by what it changed
+        both = [(t, f) for t, again, f in zip(least, replanned, new_floor, strict=True) if not again]
+        kept = [t for t, f in both if not f]
+        changed = [t for t, f in both if f]
+        kept_mean = f"{statistics.fmean(kept) * 1000:.1f}" if kept else "-"
+        changed_mean = (
+            f"{statistics.fmean(changed) * 1000:.1f}, {len(changed) / len(both):.2f}" if changed else "-"
+        )
         means = sorted(statistics.fmean(own) for own, *_ in done)
         world = statistics.median(statistics.fmean(w) for _, w, *_ in done)
         replans = [t for run in done for t in run[2]]
@@ -189,7 +226,8 @@ def main() -> int:
         )
         print(
             f"| {size} | {room} | {len(done[0][0])} | {med * 1000:.1f} | {p90 * 1000:.1f} "
-            f"| {statistics.fmean(least) * 1000:.1f} | {quiet_mean} | {spread} | {world * 1000:.1f} "
+            f"| {statistics.fmean(least) * 1000:.1f} | {quiet_mean} | {kept_mean} | {changed_mean} "
+            f"| {spread} | {world * 1000:.1f} "
             f"| {len(done[0][2])} | {rep:.3f} |"
         )
     return 0
