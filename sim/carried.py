@@ -1,6 +1,6 @@
 """Which path lengths between points a changed grid keeps from the grid it was changed from.
 
-A floor differs from the last by an item or two: cells freed where one was taken away (F),
+A floor differs from the last by a few items: cells freed where one was taken away (F),
 cells shut where one was seen or put down (B). A length between two points s and t changes only
 if a shortest path used a cell of B, or a path through F is now shorter. Both are bounded
 without a search: on the 8-connected grid no path between two cells is shorter than their

@@ -283,9 +283,10 @@ def test_the_length_matrix_and_both_ways_are_path_lengths_read_another_way(seed)
 
 @pytest.mark.parametrize("seed", range(16))
 def test_a_changed_grid_keeps_the_lengths_a_change_cannot_touch_and_searches_for_the_rest(seed):
-    """A floor after floor of boxes taken away and added (``changed``): each floor's
-    ``length_matrix`` among the same points (and a few new ones) is a grid made anew's, though
-    it searches only from some of them (``sim.carried``'s bounds keep the rest)."""
+    """Floor after floor of boxes taken away and added (``changed``): each floor's
+    ``length_matrix`` among mostly the same points (a few leave, one comes) is a grid made
+    anew's, though it searches from fewer than half of them (``sim.carried``'s bounds keep the
+    rest; with none kept, a search from all but one would cover them)."""
     import random
 
     rng = random.Random(seed)
@@ -311,7 +312,7 @@ def test_a_changed_grid_keeps_the_lengths_a_change_cannot_touch_and_searches_for
         searched += len(changed._lengths)
         asked += sum(changed.free(*p) for p in points)
         grid, boxes = changed, after
-    assert searched < asked / 2  # most rows kept: the bounds prove most pairs untouched
+    assert searched < asked / 2
 
 
 def test_the_free_cells_near_a_point_are_those_of_its_component_there():
