@@ -272,3 +272,46 @@ def test_a_sweeps_expected_finds_per_stop_are_the_whole_views_whether_it_is_kept
             assert x.unseen_share(at) == float(shown.sum()) / total
             checked += sum(f > 0 for _, f in want)
     assert checked  # some stop showed unseen points: the test is of something
+
+
+def test_a_frame_taken_again_marks_what_it_marked_the_first_time_and_works_out_nothing(monkeypatch):
+    """A frame's placement points in sight are kept by where the lens stood, its heading and
+    its tilt: the same frame again marks the same points seen (what a look that keeps nothing
+    marks) without a new line of sight; another heading or tilt at that pose is its own."""
+    import sim.visibility
+    from tidyplan.belief import exploration as module
+    from tidyplan.belief.percepts import Frame
+    from tidyplan.generate.rooms import generate
+
+    scenario = generate("two", 0, per_room=4)
+    belief = Belief(scenario, RoomMap(scenario))
+    x, fresh = belief.exploration, Belief(scenario, RoomMap(scenario)).exploration
+    rng = np.random.default_rng(0)
+    free = belief.room.grid(()).free_cells()
+    frames = [
+        (free[int(rng.integers(len(free)))], float(rng.uniform(-math.pi, math.pi)), float(t))
+        for t in rng.choice([5.0, 30.0], size=12)
+    ]
+    frames += frames[:6] + [(at, heading + 0.5, tilt) for at, heading, tilt in frames[:3]]
+    frames += [(at, heading, 60.0 - tilt) for at, heading, tilt in frames[3:6]]
+    calls = []
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return sim.visibility.visible_points(*args, **kwargs)
+
+    marked, taken = 0, set()
+    for at, heading, tilt in frames:
+        fresh._frames.clear()  # the answer worked out anew each time
+        fresh.seen[:] = False
+        fresh.looked(at, Frame(at, heading, [], tilt), None)
+        x.seen[:] = False
+        before = len(calls)
+        monkeypatch.setattr(module, "visible_points", counted)
+        x.looked(at, Frame(at, heading, [], tilt), None)
+        monkeypatch.undo()
+        assert (x.seen == fresh.seen).all()
+        assert len(calls) - before == (0 if (at, heading, tilt) in taken else 1)
+        taken.add((at, heading, tilt))
+        marked += int(fresh.seen.sum())
+    assert marked  # the frames saw something: the test is of something
