@@ -78,7 +78,7 @@ class OccupancyGrid:
         self._csr: csr_matrix | None = None
         self._label: np.ndarray | None = None  # every cell's component (_labels)
         self._reach: dict[int, list[Point]] = {}  # free_cells(reachable_from), by component
-        self._local: dict[tuple, tuple | None] = {}  # _without's answers (no memo of the caller's)
+        self._local: dict[tuple, tuple | None] = {}  # sim.joins' window parts, when no memo is given
         self._spans: tuple[np.ndarray, list[Box]] | None = None  # _obstacle_spans
         # the lengths length_matrix gave between cells (NaN: unreachable), for a grid changed
         # from this one; and the grid this one was changed from, with the cells freed and shut
@@ -293,88 +293,6 @@ class OccupancyGrid:
             return False
         return self._labels[ca] == self._labels[cb]
 
-    def joins_without(
-        self, box: Box, pairs: tuple[np.ndarray, np.ndarray, np.ndarray], memo: dict | None = None
-    ) -> np.ndarray:
-        """For each of the ``pair_cells`` pairs: would a path join them with ``box``, one of this
-        grid's obstacles, taken away? The same answers as ``connected`` on a new grid without
-        it, from the cells around ``box`` alone: taking it away frees only cells of its window, and
-        those join the components they touch there. Nothing is labelled over the whole grid
-        (per floor item and new floor, that was a fifth of a 96-object turn). ``memo``: a dict
-        the caller keeps across grids (the window's parts depend on the obstacles near it only).
-        """
-        i, j, inside = pairs
-        old = np.where(inside, self._labels[i, j], 0)  # (n, 2) each end's component now
-        span = self._span(box)
-        if span is not None:
-            # a box whose window holds no end and meets the components of no pair's two ends
-            # joins no pair: its freed cells join only the components they touch, all in the
-            # window (most floor items of a crowded floor's blocker search: in the open, one
-            # component; the parts and unions below were a third of its time)
-            e0, e1 = max(span[0] - 1, 0), min(span[1] + 1, self.shape[0])
-            f0, f1 = max(span[2] - 1, 0), min(span[3] + 1, self.shape[1])
-            near = self._labels[e0:e1, f0:f1]
-            ends_near = inside & (i >= e0) & (i < e1) & (j >= f0) & (j < f1)
-            if not ends_near.any():
-                touched = np.unique(near[near > 0])
-                apart = (old[:, 0] != old[:, 1]) & np.isin(old, touched).all(axis=1)
-                if not apart.any():
-                    return (old[:, 0] != 0) & (old[:, 0] == old[:, 1])
-        local = self._without(box, self._local if memo is None else memo)
-        if local is None:  # it covers no cell: nothing is freed
-            return (old[:, 0] != 0) & (old[:, 0] == old[:, 1])
-        (e0, e1, f0, f1), parts, freed = local
-        # each freed part joins the components of the cells it touches; parts touching a common
-        # component are one (they meet through it): union by the smallest label
-        window = self._labels[e0:e1, f0:f1]
-        top = int(self._labels.max()) + 1
-        remap = np.arange(top + len(freed) + 1)
-        for n, part in enumerate(freed):
-            touched = np.unique(window[(parts == part) & (window > 0)])
-            ids = [top + n, *(int(t) for t in touched)]
-            roots = {int(_root(remap, x)) for x in ids}
-            low = min(roots)
-            for r in roots:
-                remap[r] = low
-        for x in range(len(remap)):
-            remap[x] = _root(remap, x)
-        ends = remap[old]
-        # an end in a freed part (a cell only ``box`` covered) is in that part's component
-        within = inside & (i >= e0) & (i < e1) & (j >= f0) & (j < f1)
-        for n, part in enumerate(freed):
-            at = np.zeros(within.shape, dtype=bool)
-            at[within] = parts[i[within] - e0, j[within] - f0] == part
-            ends[at & (old == 0)] = remap[top + n]
-        return (ends[:, 0] != 0) & (ends[:, 0] == ends[:, 1])
-
-    def _without(self, box: Box, memo: dict):
-        """The window around ``box`` (its span and a cell beyond), its free cells' parts with
-        ``box`` taken away (labels, 8-connected, within the window), and which parts hold a cell
-        that only ``box`` covered; None where it covers no cell. Kept in ``memo`` by the box, the
-        obstacles near it and the grid's make."""
-        window = self._window(box)
-        if window is None:
-            return None
-        (i0, i1, j0, j1), x, y = window
-        spans, boxes = self._obstacle_spans
-        meet = (spans[:, 0] < i1) & (i0 < spans[:, 1]) & (spans[:, 2] < j1) & (j0 < spans[:, 3])
-        others = tuple(boxes[k] for k in np.nonzero(meet)[0] if boxes[k] != box)
-        key = (box, others, self.bounds, self.cell_size, self.radius)
-        if key in memo:
-            return memo[key]
-        span_free = self.mask[i0:i1, j0:j1] | self._clear_of(others, x, y)
-        e0, e1 = max(i0 - 1, 0), min(i1 + 1, self.shape[0])
-        f0, f1 = max(j0 - 1, 0), min(j1 + 1, self.shape[1])
-        free = self.mask[e0:e1, f0:f1].copy()
-        free[i0 - e0 : i1 - e0, j0 - f0 : j1 - f0] = span_free
-        parts = _components(free)
-        new = free & ~self.mask[e0:e1, f0:f1]
-        freed = sorted(int(k) for k in np.unique(parts[new]))
-        if len(memo) > 8192:
-            memo.clear()
-        memo[key] = ((e0, e1, f0, f1), parts, freed)
-        return memo[key]
-
     @property
     def _obstacle_spans(self) -> tuple[np.ndarray, list[Box]]:
         """The obstacles' spans as an (n, 4) array (no cell: an empty span), and the obstacles."""
@@ -382,13 +300,6 @@ class OccupancyGrid:
             rows = [self._span(b) or (0, 0, 0, 0) for b in self.obstacles]
             self._spans = (np.array(rows, dtype=np.int64).reshape(-1, 4), list(self.obstacles))
         return self._spans
-
-    def pair_cells(self, pairs: Sequence[tuple[Point, Point]]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The pairs' cells as index arrays (n, 2), clipped into the grid, and which are inside it."""
-        cells = np.array([self.cell(*p) for pair in pairs for p in pair], dtype=np.int64).reshape(-1, 2, 2)
-        i, j = cells[..., 0], cells[..., 1]
-        inside = (i >= 0) & (i < self.shape[0]) & (j >= 0) & (j < self.shape[1])
-        return np.clip(i, 0, self.shape[0] - 1), np.clip(j, 0, self.shape[1] - 1), inside
 
     def _span(self, box: Box) -> tuple[int, int, int, int] | None:
         """The cells ``box`` (inflated) may cover, as slices' bounds (i0, i1, j0, j1), clipped
@@ -456,7 +367,7 @@ class OccupancyGrid:
 
     def changed(self, obstacles: Sequence[Box], gone: Sequence[Box], new: Sequence[Box]) -> OccupancyGrid:
         """The grid of ``obstacles``: this one's with ``gone`` taken away and ``new`` added. Only
-        their cells are worked out again (a floor differs from the last by an item or two; its
+        their cells are worked out again (a floor differs from the last by a few items; its
         whole mask, every box's cells, was most of a new floor's grids). The free cells are the
         same as a new grid's: a cell's verdict is each obstacle's, and only those whose cells
         meet a changed box's can cover one of its cells."""
@@ -607,12 +518,6 @@ class OccupancyGrid:
                 free[i0:i1, j0:j1] &= self._clear_of((b,), bx, by)
         free.flags.writeable = False  # the grid is a value: with_obstacles makes a new one
         return free
-
-
-def _root(parent: np.ndarray, x: int) -> int:
-    while parent[x] != x:
-        x = int(parent[x])
-    return x
 
 
 def _meet(span: tuple[int, int, int, int] | None, other: tuple[int, int, int, int]) -> bool:

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from sim.grid import Box, OccupancyGrid
+from sim.joins import joins_without, pair_cells
 from tidyplan.generate import tasks as tidygen  # noqa: E402
 
 ROOM = (0.0, 4.0, 0.0, 3.0)  # 80 x 60 cells of 5 cm
@@ -171,10 +172,10 @@ def test_joined_without_a_box_agrees_with_a_new_grid_on_seeded_random_rooms():
         grid = OccupancyGrid(bounds, boxes, radius=0.25)
         points = [(rng.uniform(0, 3), rng.uniform(0, 3)) for _ in range(8)]
         pairs = [(a, b) for a in points for b in points if a < b]
-        cells = grid.pair_cells(pairs)
+        cells = pair_cells(grid, pairs)
         for box in boxes:
             fresh = OccupancyGrid(bounds, [b for b in boxes if b is not box], radius=0.25)
-            assert grid.joins_without(box, cells).tolist() == [fresh.connected(a, b) for a, b in pairs]
+            assert joins_without(grid, box, cells).tolist() == [fresh.connected(a, b) for a, b in pairs]
 
 
 def test_paths_from_one_tree_are_shortest_by_networkx_and_the_same_on_a_fresh_grid():
@@ -349,16 +350,16 @@ def test_what_taking_one_box_away_joins_is_what_a_grid_without_it_joins(seed):
     points = [(rng.uniform(-0.2, 4.2), rng.uniform(-0.2, 3.2)) for _ in range(60)]
     points += [(b.cx, b.cy) for b in boxes]  # ends under a box: free only once it is gone
     pairs = [(rng.choice(points), rng.choice(points)) for _ in range(300)]
-    cells = grid.pair_cells(pairs)
+    cells = pair_cells(grid, pairs)
     memo: dict = {}
     joined_any = 0
     now = [grid.connected(a, b) for a, b in pairs]
     for box in boxes:
         fresh = OccupancyGrid(ROOM, [b for b in boxes if b is not box], radius=R)
         want = [fresh.connected(a, b) for a, b in pairs]
-        got = grid.joins_without(box, cells, memo)
+        got = joins_without(grid, box, cells, memo)
         assert got.tolist() == want, box
-        again = OccupancyGrid(ROOM, boxes, radius=R).joins_without(box, cells, memo)  # from the memo
+        again = joins_without(OccupancyGrid(ROOM, boxes, radius=R), box, cells, memo)  # from the memo
         assert again.tolist() == want
         joined_any += sum(a and not b for a, b in zip(want, now, strict=True))
     assert joined_any  # some box, taken away, joined a pair: the test is of something
@@ -375,12 +376,12 @@ def test_a_box_that_alone_shuts_a_room_in_two_joins_its_halves_with_no_end_near_
     boxes = [left, door, right, lone]
     grid = OccupancyGrid(ROOM, boxes, radius=R)
     pairs = [((0.3, 0.3), (3.7, 2.7)), ((0.3, 0.3), (3.7, 0.3)), ((0.3, 2.7), (2.0, 2.7))]
-    cells = grid.pair_cells(pairs)
+    cells = pair_cells(grid, pairs)
     assert [grid.connected(a, b) for a, b in pairs] == [False, True, True]
     joins = {}
     for box in boxes:
         fresh = OccupancyGrid(ROOM, [b for b in boxes if b is not box], radius=R)
-        got = grid.joins_without(box, cells).tolist()
+        got = joins_without(grid, box, cells).tolist()
         assert got == [fresh.connected(a, b) for a, b in pairs], box
         joins[box.name] = got[0]
     assert joins["door"] and not joins["lone"]

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sim.grid import Box, OccupancyGrid
+from sim.joins import joins_without, pair_cells
 from sim.scenario.model import Scenario
 from tidyplan.belief.grasp import ADJUST_MAX, GraspPoses
 from tidyplan.belief.mapfacts import ENTRANCE, MapFacts, Placed, Point, deposit_waypoint
@@ -74,7 +75,7 @@ class RoomMap:
         self._last_floor: tuple | None = None  # (items, open drawers, _Floor) last asked (_floor_of)
         self._lines: dict[tuple, np.ndarray] = {}  # static paths' cells, for _near_paths
         self._discs: dict[tuple, np.ndarray] = {}  # the cells near an item, for _near_paths
-        self._without: dict[tuple, tuple | None] = {}  # OccupancyGrid.joins_without's, across floors
+        self._without: dict[tuple, tuple | None] = {}  # sim.joins' window parts, across floors
         self._near: dict[tuple, tuple] = {}  # a static path's floor items: (those asked, those near)
         static = self.grid(())
         self.entrance = static.nearest_free(*scenario.entrance)
@@ -395,10 +396,10 @@ class RoomMap:
         first: dict[tuple, int] = {}  # a kind of pair -> its first pair, which answers for it
         kind_of = [first.setdefault((kinds[a], kinds[b]), n) for n, (a, b) in enumerate(pairs)]
         ask = sorted(set(kind_of))
-        cells = nav.pair_cells([pairs[n] for n in ask])
+        cells = pair_cells(nav, [pairs[n] for n in ask])
         freed = np.zeros((len(floor), len(ask)), dtype=bool)  # item k, taken alone, frees pair n
         for k, p in enumerate(floor):
-            freed[k] = nav.joins_without(p.box(), cells, self._without)
+            freed[k] = joins_without(nav, p.box(), cells, self._without)
         who_of = {n: tuple(floor[k].name for k in np.nonzero(freed[:, m])[0]) for m, n in enumerate(ask)}
         for n, (a, b) in enumerate(pairs):
             floor_memo.blockers[(a, b)] = who_of[kind_of[n]]
