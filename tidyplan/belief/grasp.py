@@ -260,9 +260,7 @@ class GraspPoses:
             for i, j in zip(*np.nonzero(near), strict=True):
                 p = items[i]
                 if not stale[i] and keys[j][4] != p.name:
-                    # kept, most often: a Box is made only for a pair not met before
-                    hit = self._pairs.get((p.xy, keys[j]))
-                    cross, under = hit or self._pair(p, Box(*keys[j]), keys[j], self._ring(p.xy))
+                    cross, under = self._pair(p, keys[j])
                     k = held(i)
                     if k is None:
                         stale[i] = bool(len(cross) or len(under))
@@ -400,7 +398,7 @@ class GraspPoses:
         # only (per whole neighbourhood, every neighbour of a taken item computed its ring again)
         ring = self._ring(p.xy)
         free = bare.free_at(self._ring_array(p.xy))
-        hit = Blockers(len(ring), [(b.name, *self._pair(p, b, k, ring)) for b, k in others_floor], free)
+        hit = Blockers(len(ring), [(b.name, *self._pair(p, k, b)) for b, k in others_floor], free)
         if len(self._crossings) > 4096:  # a mission's items, where they were seen, their floors
             self._crossings.clear()
         self._crossings[key] = hit
@@ -518,15 +516,17 @@ class GraspPoses:
         self._ring_flat[at] = (ii[near] + i0) * bare.shape[1] + (jj[near] + j0)
         return self._rings[at]
 
-    def _pair(self, p: Placed, b: Box, b_key: tuple, ring: list[Point]) -> tuple[np.ndarray, np.ndarray]:
+    def _pair(self, p: Placed, b_key: tuple, b: Box | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The cells of ``p``'s ring (their indices) from which the arm's reach to ``p`` passes
         over floor item ``b``, and those ``b`` stands on (within the bare footprint's radius):
         indices, not a flag per cell, since most of a ring's ~380 cells touch no given item.
-        ``b_key``: ``box_key(b)``, the pair's key."""
+        ``b_key``: ``box_key(b)``, the pair's key; ``b`` itself, where the caller has it, else
+        made from the key on a miss only (most pairs a new floor asks about are kept)."""
         key = (p.xy, b_key)
         hit = self._pairs.get(key)
         if hit is None:
-            xy = self._ring_array(p.xy)
+            b = Box(*b_key) if b is None else b
+            ring, xy = self._ring(p.xy), self._ring_array(p.xy)
             # first, for the whole ring at once: a segment wholly beside the footprint along x
             # or y cannot cross it
             hx, hy = b.sx / 2, b.sy / 2
