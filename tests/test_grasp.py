@@ -165,3 +165,29 @@ def _crosses(a: Point, b: Point, box: Box) -> bool:
     return any(
         box.clearance(a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n) == 0.0 for k in range(n + 1)
     )
+
+
+def test_a_pose_rules_out_the_ring_cells_within_a_tenth_of_a_metre_of_it_near_or_far():
+    """``_ruled_out`` answers at once for a pose too far out or in to be near any ring cell: for
+    poses at every distance from the item, from inside the ring to beyond it, its cells are
+    those ``apart`` finds within 0.1 m, the pose near or far."""
+    import numpy as np
+
+    from tidyplan.belief.grasp import GraspPoses
+    from tidyplan.belief.ring import apart
+
+    scenario = generate("two", 1, per_room=6)
+    room = RoomMap(scenario)
+    rng = random.Random(1)
+    found = 0
+    for item in scenario.items:
+        at = (item.x, item.y)
+        fresh = GraspPoses(room)
+        ring = fresh._ring_array(at)
+        for _ in range(40):
+            r, a = rng.uniform(0.1, 0.9), rng.uniform(0, 2 * math.pi)
+            q = (at[0] + r * math.cos(a), at[1] + r * math.sin(a))
+            want = np.nonzero(~apart(ring, [q], 0.1))[0]
+            assert fresh._ruled_out(at, q).tolist() == want.tolist(), (at, q)
+            found += len(want) > 0 and r > 0.65
+    assert found  # some pose beyond the ring's outer edge still ruled cells out

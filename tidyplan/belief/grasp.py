@@ -25,6 +25,7 @@ from tidyplan.belief.ring import (
     Blockers,
     Reach,
     Taken,
+    Watched,
     apart,
     best,
     box_key,
@@ -107,7 +108,8 @@ class GraspPoses:
             return self._held(last.get(items[i].name), items[i], (sticky or {}).get(items[i].name))
 
         stale = self._stale(items, set(box_keys), out, reach, nav, held)
-        moved = Taken()  # the poses of the items whose answer changed, before and after
+        # the poses of the items whose answer changed, before and after
+        moved = Watched(np.array([p.xy for p in items], dtype=float).reshape(-1, 2), TAKEN_NEAR)
         for name in last.keys() - {p.name for p in items}:
             for q in last[name].facts.points.values():
                 moved.add(q)
@@ -121,7 +123,7 @@ class GraspPoses:
                 and was.level < 3
                 and (was.item, was.avoided) == (p, bad)
                 and (was.kept == previous or held(i) is not None)
-                and not (moved and self._moved_near(p, was.level, held(i), moved, reach))
+                and not (moved.hit[i] and self._moved_near(p, was.level, held(i), moved, reach))
                 and (was.level == 1 or self._room_of(p, static) == was.room)
             ):
                 answer = was if was.kept == previous else was._replace(kept=previous)
@@ -457,6 +459,8 @@ class GraspPoses:
         kept: both are cell centres, met again on every floor."""
         key = (at, q)
         hit = self._ruled.get(key)
+        if hit is None and not GRASP_MIN - 0.1 - 1e-6 < math.dist(at, q) < GRASP_MAX + 0.1 + 1e-6:
+            return _NONE  # no ring cell is within 0.1 m of a pose this far out or in
         if hit is None:
             if len(self._ruled) > 65_536:
                 self._ruled.clear()
@@ -554,6 +558,7 @@ class GraspPoses:
         return hit
 
 
+_NONE = np.zeros(0, dtype=np.int64)  # _ruled_out's answer for a pose far from every ring cell
 _LATER = object()  # in GraspPoses._poses: not reached now, the wider key decides
 
 

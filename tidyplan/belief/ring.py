@@ -84,6 +84,25 @@ class Taken:
         return out
 
 
+class Watched(Taken):
+    """Poses, as ``Taken`` keeps them, and which of some points (the items, ``at``: (n, 2)) have
+    one of them in the squares ``near(point, r)`` looks at: marked as each pose comes, for every
+    point at once (``hit``), so a point with none needs no look (one look per item, on every
+    new floor, was a fifth of a grasp choice at 96 objects)."""
+
+    def __init__(self, at: np.ndarray, r: float) -> None:
+        super().__init__()
+        # the squares near() looks at, as it works them out (the same float sums)
+        self._lo, self._hi = np.floor(at - r).astype(np.int64), np.floor(at + r).astype(np.int64)
+        self.hit = np.zeros(len(at), dtype=bool)
+
+    def add(self, q: Point) -> None:
+        super().add(q)
+        i, j = math.floor(q[0]), math.floor(q[1])
+        lo, hi = self._lo, self._hi
+        self.hit |= (lo[:, 0] <= i) & (i <= hi[:, 0]) & (lo[:, 1] <= j) & (j <= hi[:, 1])
+
+
 def best(cells: np.ndarray, rank: np.ndarray) -> int:
     """The index of the best-ranked (lowest) of the ``cells`` marked True (some are)."""
     return int(np.argmin(np.where(cells, rank, np.iinfo(np.int64).max)))
