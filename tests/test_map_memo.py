@@ -202,3 +202,30 @@ def test_the_robots_pairs_are_its_paths_both_ways_to_every_waypoint(seed):
         if not nav.free(*at):
             assert facts.kind[f"{r}-base"] == "adjust"
             assert (f"{r}-base", r) in facts.adjust and (r, f"{r}-base") in facts.adjust
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_facts_as_items_are_seen_on_a_crowded_floor_are_those_of_a_fresh_map(seed):
+    """Items seen a few at a time, moved and taken, on two rooms' floor crowded enough that paths
+    are blocked by several items at once: the items near a blocked path, asked again only of
+    the items seen since (``RoomMap._near``), are those a fresh map finds among them all."""
+    scenario = generate("two", seed, per_room=10)
+    rng = random.Random(seed)
+    room = RoomMap(scenario)
+    everything = _placed(scenario)
+    free = room.grid(()).free_cells(reachable_from=room.entrance)
+    walk = Walk(everything[: len(everything) // 3], free, rng, everything)
+    blocks = 0
+    for turn in range(14):
+        walk.change(rng.choice(["move", "see", "see", "see", "take", "shift"]), turn)
+        robot = (f"wp-robot-{turn}", rng.choice(free))
+        got = room.facts(walk.items, robot, dict(walk.sticky), walk.avoid, walk.out)
+        want = RoomMap(scenario).facts(walk.items, robot, dict(walk.sticky), walk.avoid, walk.out)
+        assert got == want, f"turn {turn}"
+        walk.keep(got)
+        # every blocked pair waits for some item: one that frees it alone, else those near its
+        # path (the fresh map above answers with the same code; this it cannot share)
+        waits = {(a, b) for _item, a, b in got.blocks}
+        assert set(got.blocked) <= waits, f"turn {turn}"
+        blocks += len(got.blocks)
+    assert blocks  # some path was blocked: the test is of something

@@ -410,12 +410,20 @@ class RoomMap:
         index = {b: k for k, b in enumerate(boxes)}
         now = frozenset(boxes)
         alone = [pairs[n] for n, kind in enumerate(kind_of) if not who_of[kind]]
-        todo = [q for q in alone if not now <= self._near.get((self._out, *q), (frozenset(), ()))[0]]
+        empty = (frozenset(), ())
+        todo = [q for q in alone if not now <= self._near.get((self._out, *q), empty)[0]]
         if todo:
             if len(self._near) > 50_000:
                 self._near.clear()
-            for q, row in zip(todo, self._near_paths(self.grid(self._out), floor, todo), strict=True):
-                self._near[(self._out, *q)] = (now, tuple(sorted(boxes[k] for k in np.nonzero(row)[0])))
+            # each item is near a path or not by itself: only the items a pair was not yet
+            # asked about are looked at (all of them, each new floor, was most of its blockers)
+            was = [self._near.get((self._out, *q), empty) for q in todo]
+            new = sorted(set().union(*(now - checked for checked, _ in was)), key=index.__getitem__)
+            rows = self._near_paths(self.grid(self._out), [floor[index[b]] for b in new], todo)
+            for q, (checked, near), row in zip(todo, was, rows, strict=True):
+                found = {new[k] for k in np.nonzero(row)[0] if new[k] not in checked}
+                asked = now if checked <= now else checked | now  # (shared where it can be)
+                self._near[(self._out, *q)] = (asked, tuple(sorted(found.union(near))))
         # kept in name order: a floor in name order (the belief's) gives them as they are
         ordered = all(a[0] < b[0] for a, b in zip(boxes, boxes[1:], strict=False))
         for q in alone:
