@@ -93,3 +93,53 @@ def test_the_item_in_hand_goes_down_beside_the_robot_when_no_removal_waypoint_is
     assert removal_choices(facts, belief, "wp-tool-1")["tool-2"] == "wp-tool-1"
     facts.path[("wp-tool-1", "vp-north")] = facts.blocked.pop(("wp-tool-1", "vp-north"))
     assert removal_choices(facts, belief, "wp-tool-1")["tool-2"] == "vp-north"  # Algorithm 1 when open
+
+
+def test_the_removal_waypoints_are_algorithm_1s_over_every_waypoint_of_the_map():
+    """``removal_choices`` hands Algorithm 1 only the waypoints it may choose; on maps of every
+    kind of waypoint, some reached, some paths open, its answers are those of Algorithm 1 over
+    all of them with their flags (grasp, deposit, reached)."""
+    import random
+    from types import SimpleNamespace
+
+    from tidyplan.belief.mapfacts import MapFacts
+    from tidyplan.belief.problem import NOT_FOR_REMOVAL, _length, removal_choices
+
+    kinds = ["entrance", "viewpoint", "deposit", "grasp", "adjust", "robot"]
+    chosen = 0
+    for seed in range(40):
+        rng = random.Random(seed)
+        names = [f"w{k}" for k in range(rng.randint(3, 14))]
+        facts = MapFacts(
+            points={n: (rng.uniform(0, 5), rng.uniform(0, 5)) for n in names},
+            kind={n: rng.choice(kinds) for n in names},
+        )
+        grasps = [n for n in names if facts.kind[n] == "grasp"]
+        facts.grasp = {f"item-{n}": n for n in grasps}
+        facts.path = {
+            (a, b): round(rng.uniform(0.5, 6), 2)
+            for a in names
+            for b in names
+            if a != b and rng.random() < 0.7
+        }
+        belief = SimpleNamespace(reached={n for n in names if rng.random() < 0.6}, holding=None)
+        robot_wp = rng.choice(names)
+        want = {}
+        every = [
+            Waypoint(
+                n,
+                *facts.points[n],
+                for_grasping=facts.kind[n] == "grasp",
+                for_delivery=facts.kind[n] == "deposit",
+                reached=n in belief.reached and facts.kind[n] not in NOT_FOR_REMOVAL,
+            )
+            for n in sorted(names)
+        ]
+        for item, origin in sorted(facts.grasp.items()):
+            length = lambda a, b, o=origin, f=facts: _length(f, o, b)  # noqa: E731
+            w = removal_waypoint(every, facts.points[origin], length)
+            if w is not None:
+                want[item] = w.name
+        assert removal_choices(facts, belief, robot_wp) == want, seed
+        chosen += len(want)
+    assert chosen  # some item had a removal waypoint: the test is of something

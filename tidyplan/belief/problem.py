@@ -94,15 +94,13 @@ def removal_choices(
     """Algorithm 1 for each item that could be moved (of ``only``, where given): p_r is where
     the robot stands when it has the item in hand (its grasp waypoint; the robot's waypoint for
     the item held now)."""
+    # only the waypoints Algorithm 1 may choose (reached, none of NOT_FOR_REMOVAL's kinds, which
+    # hold the grasp and deposit poses it passes over): every waypoint of the map, made for
+    # each call, was two fifths of making the belief state at 96 objects
     waypoints = [
-        Waypoint(
-            n,
-            *facts.points[n],
-            for_grasping=facts.kind[n] == "grasp",
-            for_delivery=facts.kind[n] == "deposit",
-            reached=n in belief.reached and facts.kind[n] not in NOT_FOR_REMOVAL,
-        )
+        Waypoint(n, *facts.points[n], reached=True)
         for n in sorted(facts.points)
+        if n in belief.reached and facts.kind[n] not in NOT_FOR_REMOVAL
     ]
     origins = dict(facts.grasp)
     if belief.holding is not None:
@@ -268,7 +266,7 @@ def _contents(belief, facts, virtual, keep, domain, with_map=True, only=None):
     # this problem has: a focused problem leaves out waypoints a fact may name
     atoms += sorted(a for a in belief.memory if a[0] not in VOCABULARY and set(a[1:]) <= named)
     if domain is not None:
-        declared = {a[0] for a in atoms if domain.predicate(a[0]) is not None}
+        declared = {p for p in {a[0] for a in atoms} if domain.predicate(p) is not None}
         atoms = [a for a in atoms if a[0] in declared]
         values = [v for v in values if domain.function(v[0]) is not None]
     return atoms, values, objects, seen, robot_wp, removal
