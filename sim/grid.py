@@ -297,8 +297,26 @@ class OccupancyGrid:
     def _obstacle_spans(self) -> tuple[np.ndarray, list[Box]]:
         """The obstacles' spans as an (n, 4) array (no cell: an empty span), and the obstacles."""
         if self._spans is None:
-            rows = [self._span(b) or (0, 0, 0, 0) for b in self.obstacles]
-            self._spans = (np.array(rows, dtype=np.int64).reshape(-1, 4), list(self.obstacles))
+            # ``_span`` of every obstacle at once, in the same sums (a call per obstacle, for
+            # every grid a new floor changes, grew with the floor items)
+            b = np.array([(o.cx, o.cy, o.sx, o.sy) for o in self.obstacles], dtype=float).reshape(-1, 4)
+            x0, _x1, y0, _y1 = self.bounds
+            r, cell = self.radius, self.cell_size
+            lo_i = np.floor((b[:, 0] - b[:, 2] / 2 - r - x0) / cell).astype(np.int64)
+            lo_j = np.floor((b[:, 1] - b[:, 3] / 2 - r - y0) / cell).astype(np.int64)
+            hi_i = np.floor((b[:, 0] + b[:, 2] / 2 + r - x0) / cell).astype(np.int64)
+            hi_j = np.floor((b[:, 1] + b[:, 3] / 2 + r - y0) / cell).astype(np.int64)
+            rows = np.stack(
+                [
+                    np.maximum(lo_i, 0),
+                    np.minimum(hi_i + 1, self.shape[0]),
+                    np.maximum(lo_j, 0),
+                    np.minimum(hi_j + 1, self.shape[1]),
+                ],
+                axis=1,
+            )
+            rows[(rows[:, 0] >= rows[:, 1]) | (rows[:, 2] >= rows[:, 3])] = 0  # no cell: empty
+            self._spans = (rows, list(self.obstacles))
         return self._spans
 
     def _span(self, box: Box) -> tuple[int, int, int, int] | None:

@@ -3,6 +3,7 @@
 import hashlib
 import itertools
 import math
+import random
 
 import numpy as np
 import pytest
@@ -468,3 +469,35 @@ def test_the_graph_made_as_arrays_is_the_one_made_from_its_pairs(seed):
     assert got.indptr.tolist() == want.indptr.tolist()
     assert got.indices.tolist() == want.indices.tolist()
     assert got.data.tolist() == want.data.tolist()
+
+
+def test_the_obstacles_spans_worked_out_at_once_are_each_obstacles_own():
+    """``_obstacle_spans`` (every obstacle's span in one pass of arrays) against ``_span`` box by
+    box: boxes inside the room, across its walls, wholly outside, thin and large, on cell
+    borders and off them, for both radii."""
+    rng = random.Random(5)
+    for radius in (0.215, 0.265):
+        for _ in range(20):
+            boxes = []
+            for k in range(rng.randint(1, 30)):
+                cx = rng.choice([rng.uniform(-3.5, 3.5), round(rng.uniform(-3, 3), 2), rng.uniform(-9, 9)])
+                cy = rng.choice([rng.uniform(-3.5, 3.5), round(rng.uniform(-3, 3), 2), rng.uniform(-9, 9)])
+                boxes.append(
+                    Box(
+                        cx,
+                        cy,
+                        rng.choice([0.01, 0.1, rng.uniform(0.02, 2.5)]),
+                        rng.uniform(0.01, 2.5),
+                        f"b{k}",
+                    )
+                )
+            for k in range(10):  # an inflated side on a cell border, where the sums' order tells
+                sx, sy = rng.choice([0.1, 0.3, rng.uniform(0.02, 1.0)]), rng.uniform(0.02, 1.0)
+                cx = -3.0 + rng.randint(0, 120) * 0.05 + sx / 2 + radius
+                cy = -2.5 + rng.randint(0, 100) * 0.05 - sy / 2 - radius
+                boxes.append(Box(cx, cy, sx, sy, f"edge{k}"))
+            grid = OccupancyGrid((-3.0, 3.0, -2.5, 2.5), boxes, radius=radius)
+            spans, listed = grid._obstacle_spans
+            assert listed == list(grid.obstacles)
+            want = [grid._span(b) or (0, 0, 0, 0) for b in grid.obstacles]
+            assert [tuple(int(v) for v in row) for row in spans] == want
