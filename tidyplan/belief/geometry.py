@@ -416,7 +416,8 @@ class RoomMap:
             if len(self._near) > 50_000:
                 self._near.clear()
             # each item is near a path or not by itself: only the items a pair was not yet
-            # asked about are looked at (all of them, each new floor, was most of its blockers)
+            # asked about are looked at (before, a pair met with one such item was asked
+            # about every floor item again)
             was = [self._near.get((self._out, *q), empty) for q in todo]
             new = sorted(set().union(*(now - checked for checked, _ in was)), key=index.__getitem__)
             rows = self._near_paths(self.grid(self._out), [floor[index[b]] for b in new], todo)

@@ -96,7 +96,7 @@ def removal_choices(
     the item held now)."""
     # only the waypoints Algorithm 1 may choose (reached, none of NOT_FOR_REMOVAL's kinds, which
     # hold the grasp and deposit poses it passes over): every waypoint of the map, made for
-    # each call, was two fifths of making the belief state at 96 objects
+    # each call, was two fifths of a problem's contents at 96 objects under a line profiler
     waypoints = [
         Waypoint(n, *facts.points[n], reached=True)
         for n in sorted(facts.points)
