@@ -10,7 +10,7 @@ from collections import Counter
 import pytest
 
 from sim.grid import Box
-from tests.test_map_memo import Walk
+from tests.test_map_memo import crowded
 from tidyplan.belief.geometry import RoomMap
 from tidyplan.belief.mapfacts import Placed, Point
 from tidyplan.generate.rooms import generate
@@ -78,12 +78,7 @@ def test_poses_kept_from_the_last_choice_are_a_fresh_maps_on_a_crowded_floor(see
     """Items seen, moved and taken, poses kept and avoided, a drawer out and the robot moving, on
     a floor crowded enough that most items wait for others: after each, the poses (each item's
     kept from the last choice where nothing near it changed) are those a fresh map chooses."""
-    scenario = generate("two", seed, per_room=10)
-    rng = random.Random(seed)
-    room = RoomMap(scenario)
-    everything = _placed(scenario)
-    free = room.grid(()).free_cells(reachable_from=room.entrance)
-    walk = Walk(everything[: len(everything) // 2], free, rng, everything)
+    scenario, room, free, walk, rng = crowded(seed, 2)
     kinds = Counter()
     for turn in range(24):
         what = rng.choice(["move", "see", "see", "take", "shift", "avoid", "drawer"])

@@ -62,6 +62,18 @@ class Walk:
         self.sticky.update((item, got.points[wp]) for item, wp in got.grasp.items())
 
 
+def crowded(seed: int, part: int):
+    """Two rooms crowded with items (ten of each category in each room), a walk over them from
+    the first 1/``part`` of their items, and what it draws from: (scenario, room, free cells
+    the robot reaches, the walk, its random numbers)."""
+    scenario = generate("two", seed, per_room=10)
+    rng = random.Random(seed)
+    room = RoomMap(scenario)
+    everything = _placed(scenario)
+    free = room.grid(()).free_cells(reachable_from=room.entrance)
+    return scenario, room, free, Walk(everything[: len(everything) // part], free, rng, everything), rng
+
+
 @pytest.mark.parametrize("seed", [0, 3, 7])
 def test_facts_after_moves_takes_and_drawers_are_those_of_a_fresh_map(seed):
     scenario = generate("one", seed)
@@ -209,12 +221,7 @@ def test_facts_as_items_are_seen_on_a_crowded_floor_are_those_of_a_fresh_map(see
     """Items seen a few at a time, moved and taken, on two rooms' floor crowded enough that paths
     are blocked by several items at once: the items near a blocked path, asked again only of
     the items seen since (``RoomMap._near``), are those a fresh map finds among them all."""
-    scenario = generate("two", seed, per_room=10)
-    rng = random.Random(seed)
-    room = RoomMap(scenario)
-    everything = _placed(scenario)
-    free = room.grid(()).free_cells(reachable_from=room.entrance)
-    walk = Walk(everything[: len(everything) // 3], free, rng, everything)
+    scenario, room, free, walk, rng = crowded(seed, 3)
     blocks = 0
     for turn in range(14):
         walk.change(rng.choice(["move", "see", "see", "see", "take", "shift"]), turn)
