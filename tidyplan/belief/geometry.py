@@ -421,10 +421,12 @@ class RoomMap:
             was = [self._near.get((self._out, *q), empty) for q in todo]
             new = sorted(set().union(*(now - checked for checked, _ in was)), key=index.__getitem__)
             rows = self._near_paths(self.grid(self._out), [floor[index[b]] for b in new], todo)
+            unions: dict[int, frozenset] = {}  # one set asked per set asked before: shared
             for q, (checked, near), row in zip(todo, was, rows, strict=True):
                 found = {new[k] for k in np.nonzero(row)[0] if new[k] not in checked}
-                asked = now if checked <= now else checked | now  # (shared where it can be)
-                self._near[(self._out, *q)] = (asked, tuple(sorted(found.union(near))))
+                if id(checked) not in unions:
+                    unions[id(checked)] = now if checked <= now else checked | now
+                self._near[(self._out, *q)] = (unions[id(checked)], tuple(sorted(found.union(near))))
         # kept in name order: a floor in name order (the belief's) gives them as they are
         ordered = all(a[0] < b[0] for a, b in zip(boxes, boxes[1:], strict=False))
         for q in alone:
