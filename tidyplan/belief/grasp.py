@@ -120,7 +120,6 @@ class GraspPoses:
             if (
                 was is not None
                 and not stale[i]
-                and was.level < 3
                 and (was.item, was.avoided) == (p, bad)
                 and (was.kept == previous or held(i) is not None)
                 and not (moved.hit[i] and self._moved_near(p, was.level, held(i), moved, reach))
@@ -256,7 +255,8 @@ class GraspPoses:
         if len(changed):  # near_boxes' test, for every item and changed box at once
             dx = np.maximum(np.abs(xy[:, None, 0] - changed[None, :, 0]) - changed[None, :, 2], 0.0)
             dy = np.maximum(np.abs(xy[:, None, 1] - changed[None, :, 1]) - changed[None, :, 3], 0.0)
-            near = np.hypot(dx, dy) <= GRASP_MAX + self.room.bare_radius + 0.03 + 1e-9
+            d = np.hypot(dx, dy)
+            near = d <= GRASP_MAX + self.room.bare_radius + 0.03 + 1e-9
             # one that neither crosses a reach from the ring nor stands on a cell of it (where
             # the bare grid has it cover the cell: the same test) changes nothing of the choice
             for i, j in zip(*np.nonzero(near), strict=True):
@@ -270,24 +270,30 @@ class GraspPoses:
                         stale[i] = bool(k in cross or k in under)
                     elif self._last.answers[p.name].level == 2:  # gone: the cells it freed
                         stale[i] = self._freed(p, k, np.union1d(cross, under), reach)
+        # an answer that reached no pose (level 3) reads the room around its ring too
+        # (``_around``): a floor item come or gone near it, or a cell of its window flipped
+        wide = np.array([getattr(self._last.answers.get(p.name), "level", 0) == 3 for p in items], bool)
+        if len(changed) and wide.any():
+            within = GRASP_MAX + ADJUST_MAX + 0.1 + self.room.bare_radius + 0.1  # _around's sums
+            stale |= wide & (d <= within + 1e-9).any(axis=1)
         flipped = (reach != self._last.reach).reshape(nav.shape)
         if flipped.any():  # the flipped cells in each ring's square (a cell to spare), summed
             sums = np.zeros((nav.shape[0] + 1, nav.shape[1] + 1), dtype=np.int64)
             sums[1:, 1:] = flipped.cumsum(axis=0).cumsum(axis=1)
             x0, _x1, y0, _y1 = nav.bounds
-            i0 = np.clip(
-                np.floor((xy[:, 0] - GRASP_MAX - x0) / nav.cell_size).astype(int) - 1, 0, nav.shape[0]
-            )
-            i1 = np.clip(
-                np.floor((xy[:, 0] + GRASP_MAX - x0) / nav.cell_size).astype(int) + 2, 0, nav.shape[0]
-            )
-            j0 = np.clip(
-                np.floor((xy[:, 1] - GRASP_MAX - y0) / nav.cell_size).astype(int) - 1, 0, nav.shape[1]
-            )
-            j1 = np.clip(
-                np.floor((xy[:, 1] + GRASP_MAX - y0) / nav.cell_size).astype(int) + 2, 0, nav.shape[1]
-            )
-            square = (sums[i1, j1] - sums[i0, j1] - sums[i1, j0] + sums[i0, j0]) > 0
+
+            def flips(r: float, lo: int, hi: int) -> np.ndarray:
+                """Whether each item's square, its cells at -r less ``lo`` to +r plus ``hi``
+                (exclusive), clipped to the grid, holds a flipped cell."""
+                ij = [
+                    np.clip(np.floor((xy[:, a] + s - o) / nav.cell_size).astype(int) + k, 0, nav.shape[a])
+                    for a, o in ((0, x0), (1, y0))
+                    for s, k in ((-r, -lo), (r, hi))
+                ]
+                i0, i1, j0, j1 = ij[0], np.maximum(ij[1], ij[0]), ij[2], np.maximum(ij[3], ij[2])
+                return (sums[i1, j1] - sums[i0, j1] - sums[i1, j0] + sums[i0, j0]) > 0
+
+            square = flips(GRASP_MAX, 1, 2)
             # of those with one in the square, those with one on the ring (what the key reads)
             flat = flipped.ravel()
             for i in np.nonzero(square & ~stale)[0].tolist():
@@ -298,6 +304,7 @@ class GraspPoses:
                     stale[i] = bool(flat[cells[k]])
                 else:  # a cell reached now that was not
                     stale[i] = bool((flat[cells] & reach[cells]).any())
+            stale |= wide & flips(GRASP_MAX + ADJUST_MAX + 0.1, 0, 1)  # _around's window
         return stale
 
     def _add_grasp(
