@@ -95,10 +95,11 @@ class GraspPoses:
         # the boxes as plain tuples, for the keys below (C's hashing, not a dataclass's)
         box_keys = [box_key(b) for b in floor]
         items = sorted(items, key=lambda p: p.name)
-        # An item whose floor near it, ring reach, kept and avoided poses, poses taken near it
-        # and (if not reached now) part of the room are as at the last choice keeps its
-        # answer without a key: only the items near what changed are looked at (a key for
-        # every item of the room, each new floor, was a third of the choice at 96 objects).
+        # An item whose floor near it, ring reach, kept and avoided poses, poses taken near it,
+        # (if not reached now) part of the room and (if no pose reached) the room around its
+        # ring are as at the last choice keeps its answer without a key: only the items near
+        # what changed are looked at (a key for every item of the room, each new floor, was a
+        # third of the choice at 96 objects).
         # "Near" is what the key reads: a floor item over the ring, a pose within 0.1 m of it.
         reach = nav.reaches_cells(np.arange(nav.shape[0] * nav.shape[1]), origin)
         last = self._last.answers if self._last is not None else {}
