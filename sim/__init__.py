@@ -7,5 +7,5 @@ sight (``visibility``), and the pybullet physics: the HSR (``robot``, ``hsr.urdf
 drawers' joints (``drawer``).
 
 Imports: sim only; ``box`` and ``carried`` import nothing of sim, ``grid`` only those two,
-``scenario`` only ``grid``.
+``joins`` only ``box`` and ``grid``, ``scenario`` only ``grid``.
 """

@@ -39,6 +39,7 @@ from tidyplan.belief.ring import (
 GRASP_MIN, GRASP_BEST, GRASP_MAX = 0.35, 0.45, 0.65
 ADJUST_MAX = 0.60  # m: the longest pose adjustment, a short careful omnidirectional move
 TAKEN_NEAR = GRASP_MAX + 0.1 + 1e-6  # m: a pose farther from an item is 0.1 m from all its ring
+AROUND = GRASP_MAX + ADJUST_MAX + 0.1  # m: the half side of the window a tight pose is sought in
 
 
 class Map(Protocol):
@@ -275,8 +276,7 @@ class GraspPoses:
         # (``_around``): a floor item come or gone near it, or a cell of its window flipped
         wide = np.array([getattr(self._last.answers.get(p.name), "level", 0) == 3 for p in items], bool)
         if len(changed) and wide.any():
-            within = GRASP_MAX + ADJUST_MAX + 0.1 + self.room.bare_radius + 0.1  # _around's sums
-            stale |= wide & (d <= within + 1e-9).any(axis=1)
+            stale |= wide & (d <= self._wider() + 1e-9).any(axis=1)
         flipped = (reach != self._last.reach).reshape(nav.shape)
         if flipped.any():  # the flipped cells in each ring's square (a cell to spare), summed
             sums = np.zeros((nav.shape[0] + 1, nav.shape[1] + 1), dtype=np.int64)
@@ -305,7 +305,7 @@ class GraspPoses:
                     stale[i] = bool(flat[cells[k]])
                 else:  # a cell reached now that was not
                     stale[i] = bool((flat[cells] & reach[cells]).any())
-            stale |= wide & flips(GRASP_MAX + ADJUST_MAX + 0.1, 0, 1)  # _around's window
+            stale |= wide & flips(AROUND, 0, 1)  # _around's window
         return stale
 
     def _add_grasp(
@@ -424,8 +424,8 @@ class GraspPoses:
         """What a grasp pose neither reached now nor once others are cleared depends on beyond
         that: the floor items and the cells the robot reaches within a pose adjustment of the
         ring (tight poses)."""
-        r = GRASP_MAX + ADJUST_MAX + 0.1
-        wider = tuple(box_key(floor[i]) for i in near_boxes(boxes, p.xy, r + self.room.bare_radius + 0.1))
+        r = AROUND
+        wider = tuple(box_key(floor[i]) for i in near_boxes(boxes, p.xy, self._wider()))
         window = self._windows.get(p.xy)
         if window is None:
             if len(self._windows) > 4096:
@@ -439,6 +439,11 @@ class GraspPoses:
             jj = np.arange(max(j0, 0), min(j1, cols - 1) + 1)
             window = self._windows[p.xy] = (ii[:, None] * cols + jj[None, :]).ravel()
         return wider, nav.reaches_cells(window, self._origin).tobytes()
+
+    def _wider(self) -> float:
+        """How near a floor item's footprint must come to an item for ``_around`` to read it:
+        within a pose adjustment of the ring, and the base's radius beyond."""
+        return AROUND + self.room.bare_radius + 0.1
 
     def _ring_cells(self, at: Point) -> np.ndarray:
         """The ring's cells as flat indices of the room's grids (all share bounds and cells)."""
