@@ -127,6 +127,37 @@ def test_kept_operators_give_the_task_a_fresh_grounding_gives():
     assert grounding.sas(again) == grounding.sas(grounding.ground(*_compiled(second)))
 
 
+def test_the_operators_kept_are_the_last_tasks_only():
+    # An operator the next task does not reach is not kept for the ones after it (an item's takes
+    # once it is put away: kept, they made a 96-object mission's memory grow to its end); met
+    # again, it is made again, the same as a fresh grounding's.
+    domain_file = _write(
+        """(define (domain d) (:requirements :strips)
+          (:predicates (a ?x) (c ?x))
+          (:action go :parameters (?x) :precondition (a ?x) :effect (c ?x)))"""
+    )
+
+    def task(*have):
+        problem_file = domain_file.with_name("q.pddl")
+        init = " ".join(f"(a {x})" for x in have)
+        text = f"(define (problem q) (:domain d) (:objects x y) (:init {init}) (:goal (c x)))"
+        problem_file.write_text(text)
+        return _compiled(read(domain_file, problem_file))
+
+    def kept_keys(grounder):
+        return {key for (_actions, _schemas, ops) in grounder._kept.values() for key in ops}
+
+    both, one = task("x", "y"), task("x")
+    kept = grounding.Grounder()
+    kept.ground(*both)
+    assert kept_keys(kept) == {("go", ("x",)), ("go", ("y",))}
+    kept.ground(*one)
+    assert kept_keys(kept) == {("go", ("x",))}
+    again = kept.ground(*both)
+    assert (kept.reused, kept.made) == (1, 1)
+    assert grounding.sas(again) == grounding.sas(grounding.ground(*both))
+
+
 def _compiled(pair):
     task = compile_task(*pair)
     return task.domain, task.problem

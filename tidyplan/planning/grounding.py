@@ -143,6 +143,10 @@ class Grounder:
         guards = {s.name: _guards(s, fluent) for s in schemas}
         operators = []
         self.reused = self.made = 0
+        # only this task's operators are kept for the next: what a task no longer reaches (an
+        # item's takes once it is put away) would otherwise stay for the whole mission
+        # (docs/planner.md: at 96 objects, most of the mission's memory growth)
+        now: dict = {}
         for (name, args), (s, b) in found.items():
             clock.tick()
             cost = (0 if s.cost is None else _cost(s, b, values)) if domain.has_costs else 1
@@ -158,11 +162,14 @@ class Grounder:
                 self.reused += 1
             else:
                 generic = keep(_generic(s, name, args, b, static, fluent, objects, members, cost))
-                kept_operators[(name, args)] = (seen, generic)
+                had = (seen, generic)
                 self.made += 1
+            now[(name, args)] = had
             op = final(generic, everything) if generic is not None else None
             if op is not None:
                 operators.append(op)
+        kept_operators.clear()
+        kept_operators.update(now)
         goal_facts: list[tuple[Fact, bool]] = []
         unsolvable = False
         for lit in goal:
