@@ -35,6 +35,11 @@ CELL = 0.05  # m: 5 cm resolves the ~0.2 m gaps between WRS items and keeps the 
 # The robot as a disc: half the HSR's footprint of about 0.43 m across (docs/sources.md; a
 # quoted figure, not confirmed), so a cell is free when the whole base fits around its centre.
 ROBOT_RADIUS = 0.22
+# Sources whose trees and lengths a grid keeps, the longest unasked forgotten first: a mission
+# asks from its waypoints again and again and from the robot's pose once a step. In the 96-object
+# two-room mission one source was asked again after 96 others and none after 128; in a 30-object
+# Task 1 room none after 64. All kept, a long mission's memory grew with its steps (bench/soak.py).
+SOURCES_KEPT = 128
 
 Point = tuple[float, float]
 Cell = tuple[int, int]
@@ -424,14 +429,19 @@ class OccupancyGrid:
         checks: networkx's Dijkstra took 8 of 28 s of a pybullet case III mission, in Python;
         scipy's runs the same search in C over a sparse matrix of the same edges and weights
         (docs/world.md). Rows are remembered like the trees."""
-        todo = sorted({c for c in cells if self._free_cell(c) and c not in self._lengths})
+        kept = self._lengths
+        wanted = sorted({c for c in cells if self._free_cell(c)})
+        todo = [c for c in wanted if c not in kept]
+        for c in wanted:
+            if c in kept:
+                kept[c] = kept.pop(c)  # the latest asked last: the first to go is the longest unasked
         if todo:
-            if len(self._lengths) + len(todo) > 512:  # the robot's pose: a new source each step
-                self._lengths.clear()
             found = dijkstra(self._matrix, directed=False, indices=[self._node[c] for c in todo])
             for c, row in zip(todo, np.atleast_2d(found), strict=True):
-                self._lengths[c] = row
-        return [self._lengths.get(c) for c in cells]
+                kept[c] = row
+        rows = [kept.get(c) for c in cells]
+        _forget_oldest(kept)
+        return rows
 
     def _at(self, row: np.ndarray, c: Cell) -> float | None:
         if not self._free_cell(c):
@@ -479,16 +489,17 @@ class OccupancyGrid:
         one tree serves every path from c. scipy's search in C over ``_matrix``, like the lengths
         (networkx's in Python, and its graph built for every new floor, were a quarter of a
         96-object mission's wall time); its ties fall one fixed way for a given grid, so paths
-        are a function of the grid alone. An int32 array: a few hundred are kept in a mission."""
-        if c not in self._trees:
-            if len(self._trees) >= 512:  # the robot's own pose is a new source every step
-                self._trees.clear()
+        are a function of the grid alone. An int32 array: up to ``SOURCES_KEPT`` are kept."""
+        if c in self._trees:
+            self._trees[c] = self._trees.pop(c)  # the latest asked last, as in _rows
+        else:
             _lengths, pred = dijkstra(
                 self._matrix, directed=False, indices=int(self._node[c]), return_predecessors=True
             )
             before = pred.astype(np.int32)
             before[before < 0] = -1  # scipy's -9999: the source, and cells it does not reach
             self._trees[c] = before
+            _forget_oldest(self._trees)
         return self._trees[c]
 
     @property
@@ -557,3 +568,9 @@ def _components(free: np.ndarray) -> np.ndarray:
     graph's components, by scipy's labelling in C (a flood fill in Python took 1-3 s a mission)."""
     labels, _count = _label_components(free, structure=_EIGHT)
     return labels
+
+
+def _forget_oldest(kept: dict) -> None:
+    """Drop a grid's longest unasked sources (the first in ``kept``) past ``SOURCES_KEPT``."""
+    while len(kept) > SOURCES_KEPT:
+        del kept[next(iter(kept))]

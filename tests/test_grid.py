@@ -221,7 +221,7 @@ def test_paths_from_one_tree_are_shortest_by_networkx_and_the_same_on_a_fresh_gr
 
 
 def test_a_remembered_tree_costs_a_few_bytes_per_free_cell():
-    """The trees ``path`` remembers (up to 512 a grid) are kept as arrays: as networkx's dicts a
+    """The trees ``path`` remembers (up to ``SOURCES_KEPT`` a grid) are kept as arrays: as networkx's dicts a
     two-room floor's were ~100 bytes a cell and a 96-object mission's memory grew by half."""
     import random
     import tracemalloc
@@ -240,6 +240,31 @@ def test_a_remembered_tree_costs_a_few_bytes_per_free_cell():
     finally:
         tracemalloc.stop()
     assert grown / (len(sources) * len(cells)) < 8
+
+
+def test_a_grid_forgets_its_longest_unasked_sources_and_answers_as_a_fresh_one(monkeypatch):
+    """Past ``SOURCES_KEPT`` sources a grid drops the trees and lengths asked longest ago (a
+    source asked again is the latest), so a long mission's memory does not grow with its steps;
+    a call that asks more sources at once than it keeps is still answered whole."""
+    from sim import grid as grid_module
+
+    monkeypatch.setattr(grid_module, "SOURCES_KEPT", 6)
+    boxes = [Box(2.0, 1.5, 0.4, 1.6)]
+    grid = OccupancyGrid(ROOM, boxes, radius=R)
+    rng = random.Random(3)
+    free = [grid.xy(int(i), int(j)) for i, j in zip(*grid.mask.nonzero(), strict=True)]
+    hot, goal = free[0], free[-1]
+    for p in rng.sample(free[1:-1], 20):
+        assert grid.path(p, goal) is not None and grid.path(hot, goal) is not None
+        grid.length_matrix([hot, p])
+        assert len(grid._trees) <= 6 and len(grid._lengths) <= 6
+        assert grid.cell(*hot) in grid._trees and grid.cell(*hot) in grid._lengths
+    points = rng.sample(free, 15)
+    fresh = OccupancyGrid(ROOM, boxes, radius=R)
+    assert _same_lengths(grid.length_matrix(points), fresh.path_lengths(points))
+    assert grid.path_lengths(points) == fresh.path_lengths(points)
+    assert len(grid._lengths) <= 6
+    assert [grid.path(p, goal) for p in points] == [fresh.path(p, goal) for p in points]
 
 
 def _same_lengths(got, want) -> bool:
