@@ -113,6 +113,52 @@ def test_the_deposit_is_looked_into_at_the_last_put_not_on_a_tour_at_the_end(tmp
     assert not any(e["kind"] == "action" and e.get("purpose") == "inspect_deposit" for e in events)
 
 
+def test_two_items_of_a_category_millimetres_apart_in_a_deposit_are_two(tmp_path, monkeypatch):
+    # Items put into a deposit can stand all but touching (pybullet's wrs-task1-s406: two
+    # markers 3 mm apart in container B). A look that shows both shows two items: neither is
+    # lost to the belief, and no round of exploration looks for one in the room. Every look
+    # shows them where they are, so the second of two looks shows no third.
+    from tidyplan.belief.percepts import Detection
+
+    scenario = _scenario("tight", [("t1", 1.8, 1.0), ("t2", 1.8, 2.2)])
+    box = next(d for d in scenario.deposits if d.category == "toy")
+    looks = []
+
+    def look_into(self, deposit):
+        looks.append(deposit)
+        inside = sorted(o.name for o in self.items.values() if o.state == "tidied" and o.deposit == deposit)
+        return [
+            Detection("toy", box.x - 0.004 + 0.002 * k, box.y + 0.0015 * k, "floor", 0.05, 0.05, 0.05)
+            for k in range(len(inside))
+        ]
+
+    monkeypatch.setattr(SymbolicWorld, "look_into", look_into)
+    monkeypatch.setattr("tidyplan.loop.looking.LOOKS_INTO", 2)
+    summary, events = _run(tmp_path, scenario)
+    assert summary["success"] and summary["delivered"] == 2
+    inspections = [e for e in events if e["kind"] == "inspect_deposit"]
+    assert inspections and sorted(inspections[-1]["confirmed"]) == ["toy-1", "toy-2"]
+    assert all(e["lost"] == [] for e in inspections)
+    assert not any(e["kind"] == "explore_again" for e in events)
+
+
+def test_a_look_into_a_deposit_adds_only_the_items_no_earlier_look_showed():
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.loop.looking import distinct
+
+    def seen(category, x, y):
+        return Detection(category, x, y, "tray", 0.05, 0.05, 0.05)
+
+    first = distinct([], [seen("tool", 1.0, 1.0), seen("tool", 1.003, 1.0), seen("food", 1.0, 1.0)])
+    assert len(first) == 3  # one look: each detection an item, however near another
+    again = distinct(first, [seen("tool", 1.003, 1.001), seen("tool", 1.0, 1.0), seen("food", 1.001, 1.0)])
+    assert again == first  # the same three seen again
+    more = distinct(again, [seen("tool", 1.0, 1.0), seen("tool", 1.002, 1.0), seen("tool", 1.001, 1.001)])
+    assert len(more) == 4  # three tools in one look: one more than the two shown before
+    assert len(distinct(more, [seen("tool", 1.1, 1.0)])) == 5  # 10 cm from any: another
+    assert len(distinct(more, [seen("tool", 1.017, 1.0)])) == 5  # the trays' 1.7 cm: another
+
+
 def test_a_deposit_put_into_after_its_look_is_looked_into_again_at_the_end(tmp_path, monkeypatch):
     # At the first put the belief is wrong: it knows of nothing more for the box (the second
     # toy unknown, none expected), so the robot looks into the box there and then. It finds the
