@@ -357,6 +357,37 @@ def test_the_free_cells_near_a_point_are_those_of_its_component_there():
             assert sorted(near) == sorted(want)
         assert any(grid.free_cells_near((1.7, 1.5), 0.6, reachable_from=(0.5, 1.5)))
     assert grid.free_cells_near((1.7, 1.5), 0.6, reachable_from=(2.0, 1.5)) == []  # in the wall
+    every = grid.free_cells()  # and, asked of no component, those of every free cell
+    for at in ((1.7, 1.5), (2.3, 0.4), (0.1, 0.1), (3.9, 2.9)):
+        near = [q for q in grid.free_cells_near(at, 0.65) if math.dist(q, at) <= 0.65]
+        assert sorted(near) == sorted(q for q in every if math.dist(q, at) <= 0.65)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_the_nearest_free_cell_is_the_one_every_cell_measured_gives(seed):
+    """``nearest_free`` finds its few candidates at once: it answers as the least distance over
+    every free cell of the component, then the least cell, does (points in boxes, on cell
+    centres, where several cells are equally near)."""
+    rng = random.Random(seed)
+    boxes = [Box(rng.uniform(0.5, 3.5), rng.uniform(0.5, 2.5), rng.uniform(0.2, 0.9), rng.uniform(0.2, 0.9))]
+    boxes += [Box(2.0, 1.5, 0.1, rng.choice((1.0, 3.2)), "wall")]
+    grid = OccupancyGrid(ROOM, boxes, radius=R)
+
+    def every(x, y, reachable_from=None):
+        cells = [grid.cell(*q) for q in grid.free_cells(reachable_from=reachable_from)]
+        return grid.xy(*min(cells, key=lambda c: (math.dist(grid.xy(*c), (x, y)), c)))
+
+    starts = [None, (0.5, 1.5), (3.5, 1.5)]
+    for _ in range(60):
+        x, y = rng.uniform(-0.2, 4.2), rng.uniform(-0.2, 3.2)
+        if rng.random() < 0.3:  # on a line between two cell centres: ties
+            x = grid.xy(rng.randrange(80), 0)[0] + grid.cell_size / 2
+        start = rng.choice(starts)
+        if start is not None and not grid.free(*start):
+            continue
+        assert grid.nearest_free(x, y, reachable_from=start) == every(x, y, start)
+    with pytest.raises(ValueError):
+        grid.nearest_free(1.0, 1.0, reachable_from=(2.0, 1.5))  # the start is in the wall
 
 
 @pytest.mark.parametrize("seed", range(12))

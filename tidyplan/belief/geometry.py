@@ -355,7 +355,8 @@ class RoomMap:
 
     def _adjust_into(self, facts: MapFacts, name: str, nav: OccupancyGrid) -> None:
         target = facts.points[name]
-        cells = [c for c in nav.free_cells(reachable_from=self._origin) if math.dist(c, target) <= ADJUST_MAX]
+        near = nav.free_cells_near(target, ADJUST_MAX, self._origin)
+        cells = [c for c in near if math.dist(c, target) <= ADJUST_MAX]
         if not cells:
             return
         base = min(cells, key=lambda c: (math.dist(c, target), c))

@@ -95,7 +95,8 @@ class Navigate(Unit):
         nav = room.grid(self.ctx.floor())
         start, prefix = pose, [pose]
         if not nav.free(*pose):  # in a tight pose: back out to the nearest navigable cell first
-            cells = [c for c in nav.free_cells() if math.dist(c, pose) <= ADJUST_MAX + 0.05]
+            near = nav.free_cells_near(pose, ADJUST_MAX + 0.05)
+            cells = [c for c in near if math.dist(c, pose) <= ADJUST_MAX + 0.05]
             if not cells:
                 return Failure(A, "no_path", "boxed in")
             start = min(cells, key=lambda c: (math.dist(c, pose), c))
