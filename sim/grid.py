@@ -38,7 +38,8 @@ ROBOT_RADIUS = 0.22
 # Sources whose trees and lengths a grid keeps, the longest unasked forgotten first: a mission
 # asks from its waypoints again and again and from the robot's pose once a step. In the 96-object
 # two-room mission one source was asked again after 96 others and none after 128; in a 30-object
-# Task 1 room none after 64. All kept, a long mission's memory grew with its steps (bench/soak.py).
+# Task 1 room none after 64. Up to 512 were kept, then all dropped: a long mission's memory grew
+# towards that (bench/soak.py).
 SOURCES_KEPT = 128
 
 Point = tuple[float, float]

@@ -140,6 +140,7 @@ def test_two_items_of_a_category_millimetres_apart_in_a_deposit_are_two(tmp_path
     assert inspections and sorted(inspections[-1]["confirmed"]) == ["toy-1", "toy-2"]
     assert all(e["lost"] == [] for e in inspections)
     assert not any(e["kind"] == "explore_again" for e in events)
+    assert len(looks) == len(inspections)  # one look each: it showed both
 
 
 def test_a_look_into_a_deposit_adds_only_the_items_no_earlier_look_showed():

@@ -44,9 +44,10 @@ def distinct(shown: list[Detection], look: list[Detection]) -> list[Detection]:
     """The items ``shown`` by earlier looks into a deposit and those of one more ``look``. Each
     of a look's detections is an item of its own, however near another: two markers standing in
     container B 3 mm apart (wrs-task1-s406) were one item by their places rounded to the
-    centimetre, and the other was lost to the belief and looked for in the room for 500 s. A
-    detection is an item shown before when the nearest one of its category that no earlier
-    detection of this look took is within SAME_PLACE of it."""
+    centimetre, and the other was lost to the belief and looked for in three rounds of
+    exploration (1794 s for the mission; 1419 s counted as two). A detection is an item shown
+    before when the nearest one of its category that no earlier detection of this look took is
+    within SAME_PLACE of it."""
     out, matched = list(shown), set()
     for d in look:
         near = [
