@@ -117,7 +117,7 @@ class OccupancyGrid:
         when it is given (none if that point is not free): where the robot can actually go.
         A component's cells are remembered (the map's facts ask every turn of the same floor)."""
         if reachable_from is None:
-            return [self.xy(*c) for c in self._cells(None)]
+            return [self.xy(int(i), int(j)) for i, j in zip(*np.nonzero(self.mask), strict=True)]
         start = self.cell(*reachable_from)
         if not self._free_cell(start):
             return []
@@ -163,13 +163,9 @@ class OccupancyGrid:
         cell lies in the square of half-side ``r`` around ``at`` (a superset of those within
         ``r``; the caller measures), in cell order: ``free_cells`` near one point without
         listing every free cell."""
-        if reachable_from is None:
-            free = self.mask
-        else:
-            start = self.cell(*reachable_from)
-            if not self._free_cell(start):
-                return []
-            free = self._labels == self._labels[start]
+        free = self._free_of(reachable_from)
+        if free is None:
+            return []
         i0, j0 = self.cell(at[0] - r, at[1] - r)
         i1, j1 = self.cell(at[0] + r, at[1] + r)
         i0, j0 = max(i0, 0), max(j0, 0)
@@ -185,11 +181,7 @@ class OccupancyGrid:
         within a hair of the least distance are found at once, and of those the one the exact
         distance and then the cell pick (a Python ``min`` over every free cell, several
         milliseconds each time the robot stood where no cell is free)."""
-        if reachable_from is None:
-            free = self.mask
-        else:
-            start = self.cell(*reachable_from)
-            free = self._labels == self._labels[start] if self._free_cell(start) else None
+        free = self._free_of(reachable_from)
         ii, jj = np.nonzero(free) if free is not None else ((), ())
         if not len(ii):
             raise ValueError(f"no free cell{'' if reachable_from is None else ' reachable'} in the grid")
@@ -531,14 +523,13 @@ class OccupancyGrid:
         i, j = c
         return 0 <= i < self.shape[0] and 0 <= j < self.shape[1] and bool(self.mask[i, j])
 
-    def _cells(self, reachable_from: Point | None) -> list[Cell]:
-        """Free cells in index order, or the sorted component of ``reachable_from``'s cell."""
+    def _free_of(self, reachable_from: Point | None) -> np.ndarray | None:
+        """The free cells as a mask, or those of ``reachable_from``'s component; None where that
+        point is not free."""
         if reachable_from is None:
-            return [(int(i), int(j)) for i, j in zip(*np.nonzero(self.mask), strict=True)]
+            return self.mask
         start = self.cell(*reachable_from)
-        if not self._free_cell(start):
-            return []
-        return self._component_of(start)
+        return self._labels == self._labels[start] if self._free_cell(start) else None
 
     def _free_mask(self) -> np.ndarray:
         """Cells whose centre is at least the radius from every wall and obstacle box.

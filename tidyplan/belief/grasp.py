@@ -472,7 +472,7 @@ class GraspPoses:
         kept: both are cell centres, met again on every floor."""
         key = (at, q)
         hit = self._ruled.get(key)
-        if hit is None and not GRASP_MIN - 0.1 - 1e-6 < math.dist(at, q) < GRASP_MAX + 0.1 + 1e-6:
+        if hit is None and not GRASP_MIN - 0.1 - 1e-6 < math.dist(at, q) < TAKEN_NEAR:
             return _NONE  # no ring cell is within 0.1 m of a pose this far out or in
         if hit is None:
             if len(self._ruled) > 65_536:
