@@ -188,23 +188,27 @@ def test_an_item_the_frames_on_the_way_showed_but_the_close_look_missed_is_taken
 
 @pytest.mark.parametrize(
     "field, value",
-    [("x", 0.9), ("y", 0.9), ("on", "table"), ("sx", 0.3), ("sy", 0.3), ("spread", 0.4),
+    [("x", 0.9), ("y", 0.9), ("on", "shelf"), ("sx", 0.3), ("sy", 0.3), ("sz", 0.2), ("spread", 0.4),
      ("category", "book"), ("state", "held")],
 )  # fmt: skip
 def test_every_field_the_views_read_changes_them_and_a_confirming_look_does_not(field, value):
     """What a view of the items reads, set anew on an item's record, gives the views a fresh sort
-    gives; what a look that only confirms an item sets (its misses, size, last look) leaves the
-    count of changes, and so the views and the map's key, as they were."""
+    gives (and the boxes that may hide an item, fresh ones); what a look that only confirms an
+    item sets (its misses, its size as it was, its last look) leaves the count of changes, and
+    so the views and the map's key, as they were."""
     belief, toy = _belief_with_a_puzzle()
     belief.placed()
+    belief.item_boxes()
     k, count = belief.items[toy], edits()
-    k.misses, k.sz, k.seen_look, k.oriented = 0, 0.2, 42, True
+    k.misses, k.sz, k.seen_look, k.oriented = 0, k.sz, 42, True
     k.x = k.x  # the same value again
     assert edits() == count
     setattr(k, field, value)
     assert edits() == count + 1
     kept = sorted((k for k in belief.items.values() if k.state != "tidied"), key=lambda k: k.name)
     assert belief.placed() == [k.placed() for k in kept if k.state == "placed"]
+    fresh = [(o, belief._box3(o)) for o in kept if o.state == "placed"]
+    assert list(belief.item_boxes()) == fresh
 
 
 def test_the_items_not_put_away_follow_every_change_of_an_item_or_of_who_is_believed():

@@ -166,3 +166,41 @@ def test_visible_points_agrees_with_visible_on_seeded_random_scenes():
         for n, t in enumerate(targets):
             occ = [b for b in boxes if b.name != support[n]]
             assert got[n] == visible(camera, t, occ, range_min=0.8, range_max=3.5), n
+
+
+def test_the_boxes_near_a_segment_decide_visible_as_every_box_does():
+    # BoxTable.near_segment drops the boxes beyond the segment's bounding box: the verdict with
+    # the rest must be the verdict with all. Segments along an axis, and boxes whose faces lie
+    # on the bounding box's (or a hair beyond it), are where a dropped box could have mattered.
+    import random
+
+    from sim.visibility import BoxTable
+
+    rng = random.Random(5)
+    dropped = 0
+    for _ in range(300):
+        p = (rng.uniform(0, 4), rng.uniform(0, 4), 1.0)
+        q = [rng.uniform(0, 4), rng.uniform(0, 4), rng.choice((0.05, 0.45, 1.0))]
+        if rng.random() < 0.3:
+            q[rng.randrange(2)] = p[rng.randrange(2)]  # along an axis (or on the camera's line)
+        q = tuple(q)
+        boxes = []
+        for k in range(rng.randrange(1, 12)):
+            x, y = rng.uniform(-0.5, 4.5), rng.uniform(-0.5, 4.5)
+            if rng.random() < 0.3:  # a face on the segment's bounding box, or just past it
+                x = max(p[0], q[0]) + rng.choice((0.0, 1e-12, -1e-12, 1e-6))
+            z = rng.choice((0.0, rng.uniform(0.2, 1.2)))  # on the floor, or on a table
+            box = Box3(
+                x, x + rng.uniform(0.05, 1), y, y + rng.uniform(0.05, 1), z, z + rng.uniform(0.02, 1.5)
+            )
+            boxes.append((k, box))
+        split = rng.randrange(len(boxes) + 1)  # the first ones as fixed boxes (furniture)
+        table = BoxTable(boxes[split:], fixed=[b for _, b in boxes[:split]])
+        fixed, near = table.near_segment(p, q)
+        dropped += len(boxes) - len(fixed) - len(near)
+        every = visible(p, q, [b for _, b in boxes], range_min=0.0, range_max=10.0)
+        assert visible(p, q, fixed + [b for _, b in near], range_min=0.0, range_max=10.0) == every
+        # and a box meeting the segment is never dropped
+        kept = {id(b) for b in fixed} | {id(b) for _, b in near}
+        assert all(id(b) in kept for _, b in boxes if segment_hits_box(p, q, b))
+    assert dropped > 300  # the test dropped boxes: it tested something

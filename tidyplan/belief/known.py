@@ -13,9 +13,10 @@ from tidyplan.belief.mapfacts import Placed, Point
 SEEN_FROM_KEPT = 4  # poses an item was seen from, kept with it (Known.seen_from)
 _EDITS = [0]  # changes to what the belief's views of its items read, on any Known so far
 # what those views read (Belief.untidied: who is put away, by name; Belief.placed: each one's
-# Placed record): a look that confirms an item sets its misses, its size and its last look, and
-# changes none of them (counted, every frame's look made the views and the map's key anew)
-_VIEWED = frozenset(("name", "category", "x", "y", "on", "sx", "sy", "spread", "state"))
+# Placed record; Belief.item_boxes: each one's box): a look that confirms an item sets its
+# misses, its size and its last look, and changes none of them unless the size differs (counted,
+# every frame's look made the views and the map's key anew)
+_VIEWED = frozenset(("name", "category", "x", "y", "on", "sx", "sy", "sz", "spread", "state"))
 _UNSET = object()
 
 

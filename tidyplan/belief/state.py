@@ -30,7 +30,7 @@ import numpy as np
 
 from sim.grid import Box
 from sim.scenario.model import DrawerLayout, Scenario, drawer_layout, out_boxes
-from sim.visibility import GLANCE_TILT_DEG, Box3, in_frame, visible
+from sim.visibility import GLANCE_TILT_DEG, Box3, BoxTable, in_frame, visible
 from tidyplan.belief import revisit
 from tidyplan.belief.exploration import LOST_RADIUS, Exploration
 from tidyplan.belief.geometry import RoomMap
@@ -94,6 +94,7 @@ class Belief:
         self._poses: tuple[tuple, MapFacts] | None = None
         self._untidied: tuple[tuple, list[Known], list[Placed]] = ((), [], [])  # untidied()'s
         self._placed_arrays: tuple = ((),)  # _in_place()'s, with untidied()'s key
+        self._boxes: tuple = ((),)  # item_boxes()'s, with untidied()'s key
         # the space seen and the viewpoints to look from; it adds the map's viewpoints now
         self.exploration = Exploration(self.scenario, room, self._occluders)
 
@@ -489,9 +490,13 @@ class Belief:
         # Furniture, and the items it knows of, may hide k: a miss behind them is no evidence.
         if boxes is None:
             boxes = self.item_boxes()
-        occ = [b for b in self._occluders if b.name != k.on] + [b for o, b in boxes if o is not k]
-        eye = self.exploration.camera(at)
-        return visible(eye, (k.x, k.y, z), occ, range_min=s.range_min, range_max=s.range_max)
+        eye, target = self.exploration.camera(at), (k.x, k.y, z)
+        # the furniture and items whose boxes may meet the line of sight (a table's: at once)
+        fixed, near = (
+            boxes.near_segment(eye, target) if isinstance(boxes, BoxTable) else (self._occluders, boxes)
+        )
+        occ = [b for b in fixed if b.name != k.on] + [b for o, b in near if o is not k]
+        return visible(eye, target, occ, range_min=s.range_min, range_max=s.range_max)
 
     def _z(self, k: Known) -> float:
         """The height a look aims at: 5 cm above what k lies on."""
@@ -513,9 +518,18 @@ class Belief:
         width, edge = (MISS_WIDTH, MISS_EDGE_DEG) if miss else (1.0, 0.0)
         return in_frame(at, heading, xy, z, self.scenario.sensing, width, edge, tilt)
 
-    def item_boxes(self) -> list[tuple[Known, Box3]]:
-        """The untidied items believed in place, with their boxes: what may hide another."""
-        return [(o, self._box3(o)) for o in self.untidied() if o.state == "placed"]
+    def item_boxes(self) -> BoxTable:
+        """The untidied items believed in place, with their boxes: what may hide another (kept
+        with ``untidied``'s key, as ``_in_place``: callers must not edit it)."""
+        self.untidied()
+        key = self._untidied[0]
+        if key is None or self._boxes[0] != key:
+            items = ((o, self._box3(o)) for o in self._untidied[1] if o.state == "placed")
+            table = BoxTable(items, fixed=self._occluders)
+            if key is None:
+                return table
+            self._boxes = (key, table)
+        return self._boxes[1]
 
     def _box3(self, k: Known) -> Box3:
         return Box3.from_item(k, 0.0 if k.on == "floor" else self.scenario.furniture_named(k.on).height)
