@@ -236,3 +236,31 @@ def test_facts_as_items_are_seen_on_a_crowded_floor_are_those_of_a_fresh_map(see
         assert set(got.blocked) <= waits, f"turn {turn}"
         blocks += len(got.blocks)
     assert blocks  # some path was blocked: the test is of something
+
+
+@pytest.mark.parametrize("seed", [0, 4])
+def test_an_item_taken_from_furniture_searches_no_blocked_pair_again(monkeypatch, seed):
+    """A blocked pair's blockers depend on the floor items and the open drawers alone: a floor
+    that differs from the last only off the floor (an item taken from a table) searches none
+    again, and its facts are a fresh map's."""
+    scenario, room, free, walk, _rng = crowded(seed, 1)
+    robot = ("wp-robot", free[0])
+    before = room.facts(walk.items, robot)
+    assert before.blocks  # a crowded floor: pairs only a floor item's removal joins
+    taken = next(p for p in walk.items if not p.on_floor)
+    rest = [p for p in walk.items if p is not taken]
+    searched = []
+    find = room._find_blockers
+    monkeypatch.setattr(
+        room, "_find_blockers", lambda items, pairs, memo: searched.extend(pairs) or find(items, pairs, memo)
+    )
+    facts = room.facts(rest, robot)
+    # only a pair with a point new to the facts (a grasp pose chosen again: the taken item's
+    # pose no longer rules out ring cells near it) is searched
+    known = set(before.points.values())
+    assert all(a not in known or b not in known for a, b in searched)
+    assert facts == RoomMap(scenario).facts(rest, robot)
+    # a floor item taken is another floor: its pairs are searched
+    floor_item = next(p for p in rest if p.on_floor)
+    room.facts([p for p in rest if p is not floor_item], robot)
+    assert searched

@@ -36,6 +36,7 @@ from tidyplan.belief.ring import box_key
 
 PATHS_KEPT = 8  # sets of fixed waypoints whose pairs a floor keeps (a few components, sticky poses)
 FLOORS_KEPT = 4  # floors whose grasp poses and blockers are kept (a failed grasp's replan sees the last)
+BLOCKERS_KEPT = 8  # sets of floor items whose blocked pairs' blockers are kept (_Floor.blockers)
 CHANGED_MOST = 8  # floor items come or gone from a kept grid's: past it, a grid is made anew
 
 
@@ -72,6 +73,7 @@ class RoomMap:
         # least recently used last out: the static map (asked every turn) keeps its paths
         self._grids: OrderedDict[tuple[float, frozenset[tuple]], OccupancyGrid] = OrderedDict()  # box_keys
         self._floors: OrderedDict[tuple, _Floor] = OrderedDict()  # the last few floors' work
+        self._blocker_sets: OrderedDict[tuple, dict] = OrderedDict()  # _Floor.blockers, by floor items
         self._last_floor: tuple | None = None  # (items, open drawers, _Floor) last asked (_floor_of)
         self._lines: dict[tuple, np.ndarray] = {}  # static paths' cells, for _near_paths
         self._discs: dict[tuple, np.ndarray] = {}  # the cells near an item, for _near_paths
@@ -238,6 +240,17 @@ class RoomMap:
             self._floors[key] = _Floor()
             while len(self._floors) > FLOORS_KEPT:
                 self._floors.popitem(last=False)
+            # A pair's blockers depend on the floor items and the open drawers alone: a floor
+            # that differs from one before only off the floor (an item taken from a table, a
+            # quarter of the new floors at 96 objects) finds them again not at all
+            by = (tuple(p for p in key[0] if p.on_floor), key[1])
+            if by in self._blocker_sets:
+                self._blocker_sets.move_to_end(by)
+            else:
+                self._blocker_sets[by] = {}
+                while len(self._blocker_sets) > BLOCKERS_KEPT:
+                    self._blocker_sets.popitem(last=False)
+            self._floors[key].blockers = self._blocker_sets[by]
         return self._floors[key]
 
     def _add_paths(
