@@ -233,25 +233,24 @@ class RoomMap:
         return memo
 
     def _floor(self, key: tuple) -> _Floor:
-        """The remembered work for this floor (new if it was not among the last few)."""
-        if key in self._floors:
+        """The remembered work for this floor (new if it was not among the last few). Each
+        key is hashed as few times as may be: a tuple of a room's items hashes every item."""
+        memo = self._floors.get(key)
+        if memo is not None:
             self._floors.move_to_end(key)
-        else:
-            self._floors[key] = _Floor()
-            while len(self._floors) > FLOORS_KEPT:
-                self._floors.popitem(last=False)
-            # A pair's blockers depend on the floor items and the open drawers alone: a floor
-            # that differs from one before only off the floor (an item taken from a table, a
-            # quarter of the new floors at 96 objects) finds them again not at all
-            by = (tuple(p for p in key[0] if p.on_floor), key[1])
-            if by in self._blocker_sets:
-                self._blocker_sets.move_to_end(by)
-            else:
-                self._blocker_sets[by] = {}
-                while len(self._blocker_sets) > BLOCKERS_KEPT:
-                    self._blocker_sets.popitem(last=False)
-            self._floors[key].blockers = self._blocker_sets[by]
-        return self._floors[key]
+            return memo
+        memo = self._floors[key] = _Floor()
+        while len(self._floors) > FLOORS_KEPT:
+            self._floors.popitem(last=False)
+        # A pair's blockers depend on the floor items and the open drawers alone: a floor that
+        # differs from one before only off the floor (an item taken from a table, a quarter of
+        # the new floors at 96 objects) finds them again not at all
+        by = (tuple(p for p in key[0] if p.on_floor), key[1])
+        blockers = self._blocker_sets.pop(by, None)
+        memo.blockers = self._blocker_sets[by] = {} if blockers is None else blockers  # the newest last
+        while len(self._blocker_sets) > BLOCKERS_KEPT:
+            self._blocker_sets.popitem(last=False)
+        return memo
 
     def _add_paths(
         self, facts: MapFacts, items: Sequence[Placed], nav, static, floor_memo: _Floor, among=None
