@@ -1,6 +1,6 @@
 """The loop's own time per action, at 12, 48 and 96 objects: what monitoring costs as rooms grow.
 
-    python bench/loop_time.py [--sizes 12,16,48,96] [--repeat 3] [--actions 0] [--seed 0] [--out DIR]
+    python bench/loop_time.py [--sizes 12,16,48,96] [--repeat 3] [--actions 0] [--seeds 0] [--out DIR]
 
 For each size, a symbolic mission (12: problems/case3.toml; other sizes, multiples of 8:
 bench/wrs.py's two-room layout, as bench/replan.py makes them) runs to its end, or for its first
@@ -28,7 +28,11 @@ one run, not on one size). Runs of a size that made the same actions are one mis
 seed: the same turns, in the same order), so each turn's time is its least over them, the
 machine's noise taken out as a timer's best of several is (where the planner's wall-clock budget
 made another plan, the run least in mean is taken, and it is said); the spread of the runs' own
-means is printed beside it.
+means is printed beside it. ``--seeds`` (a list, 0,1,2, or a range, 0-2) runs each size's mission
+for each of those seeds (the same rooms, the world's draws anew: which looks miss an item, so
+what is seen when, and the plans that follow): a row then pools every seed's turns, and prints
+each seed's mean beside it (what one mission's mix of turns makes of it: one mission may make
+more of its floor changes in turns that replan, whose map work counts as planning).
 
 Traces go under DIR (default: a new temporary folder), never over an existing file.
 """
@@ -151,6 +155,35 @@ def turns(scenario: Path, trace: Path, seed: int, actions: int) -> tuple[list, .
     return own, world, replans, acts, replanned, floors
 
 
+def _seeds(spec: str) -> list[int]:
+    """``--seeds``: "0,1,2" or "0-2" (empty where it is neither)."""
+    try:
+        if "-" in spec:
+            lo, hi = (int(x) for x in spec.split("-", 1))
+            return list(range(lo, hi + 1)) if 0 <= lo <= hi else []
+        seeds = [int(x) for x in spec.split(",")]
+        return seeds if all(x >= 0 for x in seeds) else []
+    except ValueError:
+        return []
+
+
+def _least(mission: list[tuple[list, ...]], size: int, seed: int) -> tuple[list, list, list]:
+    """(each turn's least time, whether it replanned, whether it made a new floor) over the runs
+    of one size and seed. Runs that made the same actions are one mission (one seed: the same
+    turns in the same order), so a turn's least time over them is its time with the least of
+    the machine's noise; where the planner's wall-clock budget made another plan in some run,
+    the run least in mean is taken (and it is said)."""
+    if len({tuple(run[3]) for run in mission}) == 1:
+        least = [min(times) for times in zip(*(run[0] for run in mission), strict=True)]
+        return least, mission[0][4], mission[0][5]
+    print(
+        f"({size} objects, seed {seed}: the runs' actions differ;"
+        " the turns are those of the run least in mean)"
+    )
+    least, *_, replanned, new_floor = min(mission, key=lambda run: statistics.fmean(run[0]))
+    return least, replanned, new_floor
+
+
 def _p90(own: list[float]) -> float:
     return statistics.quantiles(own, n=10)[-1] if len(own) >= 2 else own[0]
 
@@ -160,13 +193,17 @@ def main() -> int:
     ap.add_argument("--sizes", default="12,16,48,96")
     ap.add_argument("--repeat", type=int, default=3, help="runs of each size, taking turns (default 3)")
     ap.add_argument("--actions", type=int, default=0, help="stop after this many (0: the whole mission)")
-    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seeds", default="0", help="the missions' seeds: a list (0,1,2) or a range (0-2)")
+    ap.add_argument("--seed", type=int, default=None, help="one seed (the same as --seeds N)")
     ap.add_argument("--out", default=None, metavar="DIR")
     args = ap.parse_args()
     try:
         sizes = [int(x) for x in args.sizes.split(",")]
     except ValueError:
         ap.exit(2, f"loop_time.py: --sizes: {args.sizes!r} is not a list of numbers\n")
+    seeds = _seeds(args.seeds) if args.seed is None else [args.seed]
+    if not seeds:
+        ap.exit(2, f"loop_time.py: --seeds: {args.seeds!r} is not a list (0,1,2) or a range (0-2) of seeds\n")
     if args.repeat < 1:
         ap.exit(2, "loop_time.py: --repeat must be at least 1\n")
     if args.actions < 0 or args.actions == 1:
@@ -174,35 +211,41 @@ def main() -> int:
     out = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="tidyplan-loop-time-"))
     out.mkdir(parents=True, exist_ok=True)
     which = f"the first {args.actions} actions" if args.actions else "every action"
-    print(f"traces under {out}; {which} of each mission, seed {args.seed}, {args.repeat} runs of each size")
-    runs: dict[int, list[tuple[list, ...]]] = {size: [] for size in sizes}
+    named = "seed" if len(seeds) == 1 else "seeds"
+    print(
+        f"traces under {out}; {which} of each mission, {named} {','.join(map(str, seeds))}, "
+        f"{args.repeat} runs of each size and seed"
+    )
+    runs: dict[tuple[int, int], list[tuple[list, ...]]] = {(size, s): [] for size in sizes for s in seeds}
     for r in range(args.repeat):
-        for size in sizes:
-            scenario = _scenario(size, out)
-            trace = out / f"n{size}-s{args.seed}-r{r}.jsonl"
-            if trace.exists():
-                ap.exit(2, f"loop_time.py: {trace} exists; choose another --out\n")
-            runs[size].append(turns(scenario, trace, args.seed, args.actions))
+        for seed in seeds:
+            for size in sizes:
+                scenario = _scenario(size, out)
+                trace = out / f"n{size}-s{seed}-r{r}.jsonl"
+                if trace.exists():
+                    ap.exit(2, f"loop_time.py: {trace} exists; choose another --out\n")
+                runs[(size, seed)].append(turns(scenario, trace, seed, args.actions))
     print(
         "\n| objects | room | turns | loop per action: median (ms) | 90th percentile (ms) | mean (ms) "
         "| mean, turns without a replan (ms) | of those, floor kept: mean (ms) | new floor: mean (ms), "
-        "share | the runs' means (ms) | the world's, mean (ms) | replans | replan median (s) |"
+        "share | the runs' means (ms) | the world's, mean (ms) | replans | replan median (s) "
+        "| each seed's mean (ms) |"
     )
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for size in sizes:
         room = "case III" if size == 12 else "two rooms"
-        done = [run for run in runs[size] if run[0]]
+        done = {seed: [run for run in runs[(size, seed)] if run[0]] for seed in seeds}
+        done = {seed: kept for seed, kept in done.items() if kept}
         if not done:
-            print(f"| {size} | {room} | 0 | - | - | - | - | - | - | - | - | - | - |")
+            print(f"| {size} | {room} | 0 | - | - | - | - | - | - | - | - | - | - | - |")
             continue
-        # runs that made the same actions are one mission (one seed, the same turns in the same
-        # order): each turn's least time over them is its time with the least of the machine's noise
-        if len({tuple(run[3]) for run in done}) == 1:
-            least = [min(times) for times in zip(*(run[0] for run in done), strict=True)]
-            replanned, new_floor = done[0][4], done[0][5]
-        else:  # the planner's wall-clock budget made another plan in some run: one run's times
-            print(f"({size} objects: the runs' actions differ; the turns are those of the run least in mean)")
-            least, *_, replanned, new_floor = min(done, key=lambda run: statistics.fmean(run[0]))
+        least, replanned, new_floor, per_seed = [], [], [], []
+        for seed, mission in done.items():
+            times, again, floor = _least(mission, size, seed)
+            least += times
+            replanned += again
+            new_floor += floor
+            per_seed.append(statistics.fmean(times))
         med, p90 = statistics.median(least), _p90(least)
         # a turn that replanned also pays what the new plan asks of the map first (its
         # waypoints' pairs, the problem's copies in the trace): apart, the turns of monitoring only
@@ -217,18 +260,20 @@ def main() -> int:
         changed_mean = (
             f"{statistics.fmean(changed) * 1000:.1f}, {len(changed) / len(both):.2f}" if changed else "-"
         )
-        means = sorted(statistics.fmean(own) for own, *_ in done)
-        world = statistics.median(statistics.fmean(w) for _, w, *_ in done)
-        replans = [t for run in done for t in run[2]]
+        every = [run for mission in done.values() for run in mission]
+        means = sorted(statistics.fmean(own) for own, *_ in every)
+        world = statistics.median(statistics.fmean(w) for _, w, *_ in every)
+        replans = [t for run in every for t in run[2]]
         rep = statistics.median(replans) if replans else float("nan")
         spread = (
             f"{means[0] * 1000:.1f}-{means[-1] * 1000:.1f}" if len(means) > 1 else f"{means[0] * 1000:.1f}"
         )
+        plans = sum(len(mission[0][2]) for mission in done.values())
         print(
-            f"| {size} | {room} | {len(done[0][0])} | {med * 1000:.1f} | {p90 * 1000:.1f} "
+            f"| {size} | {room} | {len(least)} | {med * 1000:.1f} | {p90 * 1000:.1f} "
             f"| {statistics.fmean(least) * 1000:.1f} | {quiet_mean} | {kept_mean} | {changed_mean} "
-            f"| {spread} | {world * 1000:.1f} "
-            f"| {len(done[0][2])} | {rep:.3f} |"
+            f"| {spread} | {world * 1000:.1f} | {plans} | {rep:.3f} "
+            f"| {' / '.join(f'{m * 1000:.1f}' for m in per_seed)} |"
         )
     return 0
 
