@@ -264,3 +264,26 @@ def test_an_item_taken_from_furniture_searches_no_blocked_pair_again(monkeypatch
     floor_item = next(p for p in rest if p.on_floor)
     room.facts([p for p in rest if p is not floor_item], robot)
     assert searched
+
+
+def test_a_move_within_a_component_asks_no_floor_item_again(monkeypatch):
+    """Which single floor item joins a blocked pair depends on the components its two ends are
+    in: after a move that stays in the robot's component, its new pairs are of kinds already
+    answered on this floor, so no floor item is taken away again (``joins_without``), and the
+    facts are a fresh map's."""
+    import tidyplan.belief.geometry as geometry
+
+    scenario, room, free, walk, _rng = crowded(0, 1)
+    items = walk.items
+    first = room.facts(items, ("wp-robot", free[0]))
+    assert any(a == "wp-robot" or b == "wp-robot" for _item, a, b in first.blocks)  # blocked pairs
+    nav = room._floor_of(items).grids[1]
+    here = nav.component(*free[0])
+    there = next(c for c in reversed(free) if c != free[0] and nav.component(*c) == here)
+    asked = []
+    joins = geometry.joins_without
+    monkeypatch.setattr(geometry, "joins_without", lambda *a: asked.append(a[1]) or joins(*a))
+    facts = room.facts(items, ("wp-robot", there))
+    assert asked == []
+    assert any(a == "wp-robot" or b == "wp-robot" for _item, a, b in facts.blocks)
+    assert facts == RoomMap(scenario).facts(items, ("wp-robot", there))

@@ -51,6 +51,8 @@ class _Floor:
 
     grasp: dict[tuple, MapFacts] = field(default_factory=dict)
     blockers: dict[tuple[Point, Point], tuple[str, ...]] = field(default_factory=dict)
+    # the single floor items whose removal joins a kind of pair (its ends' components)
+    joined: dict[tuple, tuple[str, ...]] = field(default_factory=dict)
     paths: dict[tuple, MapFacts] = field(default_factory=dict)  # _add_paths' fixed pairs
     focused: dict[tuple, MapFacts] = field(default_factory=dict)  # those among some waypoints
     # the floor items' boxes and the grids with them: (floor, navigation, static, bare)
@@ -73,7 +75,7 @@ class RoomMap:
         # least recently used last out: the static map (asked every turn) keeps its paths
         self._grids: OrderedDict[tuple[float, frozenset[tuple]], OccupancyGrid] = OrderedDict()  # box_keys
         self._floors: OrderedDict[tuple, _Floor] = OrderedDict()  # the last few floors' work
-        self._blocker_sets: OrderedDict[tuple, dict] = OrderedDict()  # _Floor.blockers, by floor items
+        self._blocker_sets: OrderedDict[tuple, tuple] = OrderedDict()  # _Floor's blockers, joined
         self._last_floor: tuple | None = None  # (items, open drawers, _Floor) last asked (_floor_of)
         self._lines: dict[tuple, np.ndarray] = {}  # static paths' cells, for _near_paths
         self._discs: dict[tuple, np.ndarray] = {}  # the cells near an item, for _near_paths
@@ -246,8 +248,8 @@ class RoomMap:
         # differs from one before only off the floor (an item taken from a table, a quarter of
         # the new floors at 96 objects) finds them again not at all
         by = (tuple(p for p in key[0] if p.on_floor), key[1])
-        blockers = self._blocker_sets.pop(by, None)
-        memo.blockers = self._blocker_sets[by] = {} if blockers is None else blockers  # the newest last
+        found = self._blocker_sets.pop(by, None) or ({}, {})
+        memo.blockers, memo.joined = self._blocker_sets[by] = found  # the newest last
         while len(self._blocker_sets) > BLOCKERS_KEPT:
             self._blocker_sets.popitem(last=False)
         return memo
@@ -401,19 +403,27 @@ class RoomMap:
         # Whether taking one item away joins a pair depends on the components its two ends are
         # in, where an end stands in one (an end no cell of the grid holds: on that end): pairs
         # of the same two components get one answer (a two-room floor: thousands of pairs, a
-        # few dozen such kinds)
+        # few dozen such kinds), on this floor and on the floors with the same floor items
+        # (``_Floor.joined``: a new plan's waypoints, the robot's after a move, ask of the same
+        # kinds again)
         kinds: dict[Point, tuple] = {}
         for q in {q for pair in pairs for q in pair}:
             label = nav.component(*q)
             kinds[q] = ("component", label) if label else ("point", q)
-        first: dict[tuple, int] = {}  # a kind of pair -> its first pair, which answers for it
-        kind_of = [first.setdefault((kinds[a], kinds[b]), n) for n, (a, b) in enumerate(pairs)]
-        ask = sorted(set(kind_of))
-        cells = pair_cells(nav, [pairs[n] for n in ask])
-        freed = np.zeros((len(floor), len(ask)), dtype=bool)  # item k, taken alone, frees pair n
-        for k, p in enumerate(floor):
-            freed[k] = joins_without(nav, p.box(), cells, self._without)
-        who_of = {n: tuple(floor[k].name for k in np.nonzero(freed[:, m])[0]) for m, n in enumerate(ask)}
+        who_of = floor_memo.joined
+        kind_of = [(kinds[a], kinds[b]) for a, b in pairs]
+        first: dict[tuple, int] = {}  # a kind of pair not met before -> its first pair, asked
+        for n, kind in enumerate(kind_of):
+            if kind not in who_of:
+                first.setdefault(kind, n)
+        if first:
+            ask = sorted(first.values())
+            cells = pair_cells(nav, [pairs[n] for n in ask])
+            freed = np.zeros((len(floor), len(ask)), dtype=bool)  # item k, taken alone, frees pair n
+            for k, p in enumerate(floor):
+                freed[k] = joins_without(nav, p.box(), cells, self._without)
+            for m, n in enumerate(ask):
+                who_of[kind_of[n]] = tuple(floor[k].name for k in np.nonzero(freed[:, m])[0])
         for n, (a, b) in enumerate(pairs):
             floor_memo.blockers[(a, b)] = who_of[kind_of[n]]
         # failing any single item, every floor item near the pair's path on the static map:
