@@ -204,3 +204,52 @@ def test_the_boxes_near_a_segment_decide_visible_as_every_box_does():
         kept = {id(b) for b in fixed} | {id(b) for _, b in near}
         assert all(id(b) in kept for _, b in boxes if segment_hits_box(p, q, b))
     assert dropped > 300  # the test dropped boxes: it tested something
+
+
+def test_visible_points_tests_the_occluders_near_its_targets_as_all_of_them():
+    # A frame's targets lie in a part of the room: visible_points leaves out the occluders
+    # beyond the box around the camera and them. Its verdict must be the one every occluder
+    # gives (the array test over all of them, as before), boxes a hair inside or outside that
+    # box included.
+    import random
+
+    import numpy as np
+
+    from sim.visibility import _unoccluded, visible_points
+
+    rng = random.Random(11)
+    dropped = 0
+    for _ in range(60):
+        camera = np.array((rng.uniform(1, 3), rng.uniform(1, 3), 1.0))
+        cx, cy = rng.uniform(0, 4), rng.uniform(0, 4)  # the targets: a cluster, as a frame's field
+        targets = np.array(
+            [
+                (cx + rng.uniform(-0.6, 0.6), cy + rng.uniform(-0.6, 0.6), rng.choice((0.05, 0.45)))
+                for _ in range(80)
+            ]
+        )
+        lo = np.minimum(targets.min(axis=0), camera)
+        hi = np.maximum(targets.max(axis=0), camera)
+        boxes = []
+        for k in range(rng.randrange(4, 14)):
+            x, y = rng.uniform(-0.5, 4.5), rng.uniform(-0.5, 4.5)
+            if rng.random() < 0.4:  # a face on the box around them, or just past it
+                x = rng.choice((hi[0], lo[0] - 0.3)) + rng.choice((0.0, 1e-12, -1e-12, 1e-6, -1e-6))
+            z = rng.choice((0.0, rng.uniform(0.2, 0.8)))
+            boxes.append(
+                Box3(x, x + 0.3, y, y + rng.uniform(0.1, 0.8), z, z + rng.uniform(0.02, 1.2), f"b{k}")
+            )
+        support = [rng.choice(["floor", *(b.name for b in boxes)]) for _ in targets]
+        got = visible_points(tuple(camera), targets, boxes, support, range_min=0.0, range_max=10.0)
+        every = _unoccluded(camera, targets - camera, boxes, np.asarray(support, dtype=object))
+        assert (got == every).all()
+        dropped += sum(
+            not (
+                b.x0 <= hi[0] + 1e-9
+                and b.x1 >= lo[0] - 1e-9
+                and b.y0 <= hi[1] + 1e-9
+                and b.y1 >= lo[1] - 1e-9
+            )
+            for b in boxes
+        )
+    assert dropped > 100  # boxes beyond the targets' box were there to leave out
