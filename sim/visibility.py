@@ -156,16 +156,12 @@ def visible_points(
     # wholly outside [0, 1]); a frame's field holds a part of the room, and 6 in 10 of the
     # furniture's boxes lie beyond it
     ends = targets[within]
-    lo, hi = np.minimum(ends.min(axis=0), p) - 1e-9, np.maximum(ends.max(axis=0), p) + 1e-9
+    x0, y0, z0 = (np.minimum(ends.min(axis=0), p) - 1e-9).tolist()
+    x1, y1, z1 = (np.maximum(ends.max(axis=0), p) + 1e-9).tolist()
     near = [
         b
         for b in occluders
-        if b.x0 <= hi[0]
-        and b.x1 >= lo[0]
-        and b.y0 <= hi[1]
-        and b.y1 >= lo[1]
-        and b.z0 <= hi[2]
-        and b.z1 >= lo[2]
+        if b.x0 <= x1 and b.x1 >= x0 and b.y0 <= y1 and b.y1 >= y0 and b.z0 <= z1 and b.z1 >= z0
     ]
     seen[within] = _unoccluded(p, d[within], near, np.asarray(support, dtype=object)[within])
     return seen

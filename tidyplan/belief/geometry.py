@@ -36,7 +36,7 @@ from tidyplan.belief.ring import box_key
 
 PATHS_KEPT = 8  # sets of fixed waypoints whose pairs a floor keeps (a few components, sticky poses)
 FLOORS_KEPT = 4  # floors whose grasp poses and blockers are kept (a failed grasp's replan sees the last)
-BLOCKERS_KEPT = 8  # sets of floor items whose blocked pairs' blockers are kept (_Floor.blockers)
+BLOCKERS_KEPT = 8  # sets of floor items whose blocked pairs' answers are kept (_Floor.blockers, joined)
 CHANGED_MOST = 8  # floor items come or gone from a kept grid's: past it, a grid is made anew
 
 
