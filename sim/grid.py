@@ -175,6 +175,12 @@ class OccupancyGrid:
         ii, jj = np.nonzero(free[i0:i1, j0:j1])
         return [self.xy(int(i) + i0, int(j) + j0) for i, j in zip(ii, jj, strict=True)]
 
+    def nearest_free_within(self, at: Point, r: float, reachable_from: Point | None = None) -> Point | None:
+        """``nearest_free`` among the free cells within ``r`` of ``at`` (None where there is none),
+        from the square around it only: where a tight pose backs out to, or adjusts from."""
+        cells = [c for c in self.free_cells_near(at, r, reachable_from) if math.dist(c, at) <= r]
+        return min(cells, key=lambda c: (math.dist(c, at), c)) if cells else None
+
     def nearest_free(self, x: float, y: float, reachable_from: Point | None = None) -> Point:
         """The centre of the free cell closest to (x, y), e.g. to snap a goal out of an obstacle;
         among ``free_cells(reachable_from)``. Raises ValueError when there is none. The cells

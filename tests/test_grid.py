@@ -388,6 +388,16 @@ def test_the_nearest_free_cell_is_the_one_every_cell_measured_gives(seed):
         assert grid.nearest_free(x, y, reachable_from=start) == every(x, y, start)
     with pytest.raises(ValueError):
         grid.nearest_free(1.0, 1.0, reachable_from=(2.0, 1.5))  # the start is in the wall
+    # within a radius: the same cell where it is that near, else none
+    for _ in range(60):
+        at, r = (rng.uniform(-0.2, 4.2), rng.uniform(-0.2, 3.2)), rng.choice((0.3, 0.6, 0.65))
+        start = rng.choice(starts)
+        if start is not None and not grid.free(*start):
+            continue
+        nearest = every(*at, start)
+        want = nearest if math.dist(nearest, at) <= r else None
+        assert grid.nearest_free_within(at, r, reachable_from=start) == want
+    assert grid.nearest_free_within((1.0, 1.0), 0.6, reachable_from=(2.0, 1.5)) is None
 
 
 @pytest.mark.parametrize("seed", range(12))

@@ -369,11 +369,9 @@ class RoomMap:
 
     def _adjust_into(self, facts: MapFacts, name: str, nav: OccupancyGrid) -> None:
         target = facts.points[name]
-        near = nav.free_cells_near(target, ADJUST_MAX, self._origin)
-        cells = [c for c in near if math.dist(c, target) <= ADJUST_MAX]
-        if not cells:
+        base = nav.nearest_free_within(target, ADJUST_MAX, self._origin)
+        if base is None:
             return
-        base = min(cells, key=lambda c: (math.dist(c, target), c))
         bname = name + "-base"
         facts.points[bname], facts.kind[bname] = base, "adjust"
         d = round(math.dist(base, target), 2)

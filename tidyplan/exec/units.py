@@ -95,11 +95,9 @@ class Navigate(Unit):
         nav = room.grid(self.ctx.floor())
         start, prefix = pose, [pose]
         if not nav.free(*pose):  # in a tight pose: back out to the nearest navigable cell first
-            near = nav.free_cells_near(pose, ADJUST_MAX + 0.05)
-            cells = [c for c in near if math.dist(c, pose) <= ADJUST_MAX + 0.05]
-            if not cells:
+            start = nav.nearest_free_within(pose, ADJUST_MAX + 0.05)
+            if start is None:
                 return Failure(A, "no_path", "boxed in")
-            start = min(cells, key=lambda c: (math.dist(c, pose), c))
             prefix = [pose, start]
         inner = nav.path(start, self.goal)
         if inner is None:
