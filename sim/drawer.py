@@ -94,11 +94,11 @@ def build_carcass(client: int, layouts: list[DrawerLayout], carcass_colour, draw
     first = layouts[0]
     f = first.carcass
     around = _carcass_parts(layouts)
-    carcass = _shapes(client, around, [carcass_colour] * len(around))
+    carcass = box_shapes(client, around, [carcass_colour] * len(around))
     links = []
     for layout, colour in zip(layouts, drawer_colours, strict=True):
         parts = _drawer_parts(layout)
-        shapes = _shapes(client, parts, [colour] * (len(parts) - 1) + [HANDLE_COLOUR])
+        shapes = box_shapes(client, parts, [colour] * (len(parts) - 1) + [HANDLE_COLOUR])
         axis = [0.0, 0.0, 0.0]
         axis[layout.k] = layout.sign
         x, y = layout.point(-layout.depth / 2)  # the closed drawer's middle: the link's frame
@@ -193,8 +193,9 @@ def _part(layout: DrawerLayout, a0, a1, c0, c1, z0, z1) -> Part:
     return ((along, across, z), (ha, hc, hz)) if layout.k == 0 else ((across, along, z), (hc, ha, hz))
 
 
-def _shapes(client: int, parts: list[Part], colours) -> tuple[int, int]:
-    """(collision, visual) compound shapes of boxes."""
+def box_shapes(client: int, parts: list[Part], colours) -> tuple[int, int]:
+    """(collision, visual) compound shapes of boxes, each part (centre, half extents) in its
+    colour: a carcass, a drawer, and the room's open boxes and trays (``sim.room``)."""
     kinds = [p.GEOM_BOX] * len(parts)
     halves = [list(h) for _, h in parts]
     centres = [list(c) for c, _ in parts]

@@ -232,19 +232,7 @@ def _tray(client: int, at: tuple[float, float, float], colour) -> int:
 
 def _compound(client: int, parts, at, colour) -> int:
     """A static body of boxes, each (offset from ``at``, half extents)."""
-    shapes = [p.GEOM_BOX] * len(parts)
-    extents = [list(e) for _, e in parts]
-    offsets = [list(o) for o, _ in parts]
-    col = p.createCollisionShapeArray(
-        shapes, halfExtents=extents, collisionFramePositions=offsets, physicsClientId=client
-    )
-    vis = p.createVisualShapeArray(
-        shapes,
-        halfExtents=extents,
-        visualFramePositions=offsets,
-        rgbaColors=[[*colour, 1]] * len(parts),
-        physicsClientId=client,
-    )
+    col, vis = drawer.box_shapes(client, parts, [colour] * len(parts))
     return p.createMultiBody(0, col, vis, at, physicsClientId=client)
 
 
