@@ -5,6 +5,7 @@ refuses a domain it cannot run before a world is made; the executor binds argume
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -177,3 +178,21 @@ def test_the_executor_binds_arguments_by_parameter_name():
     units = executor.units(Step("take_object", ("wp-entrance", "cup"), False, 1, 0.95, 1.0), snap, ctx)
     assert [type(u) for u in units] == [AdjustBase, Grasp]
     assert [u.item for u in units] == ["cup", "cup"]
+
+
+def test_a_step_goes_to_a_waypoint_where_the_belief_has_it_now():
+    """A waypoint the belief has moved since the plan (a grasp pose chosen anew, the plan's no
+    longer usable) is where the monitor checked the plan against: the navigate unit drives
+    there, not to the point the plan's snapshot holds."""
+    case3 = load(project_file("problems/case3.toml"))
+    belief = Belief(case3, RoomMap(case3))
+    facts = belief.facts()
+    now = belief.poses().points
+    to = next(n for n in sorted(now) if n.startswith("vp-"))
+    then = (now[to][0] + 0.4, now[to][1])
+    snap = write(belief, replace(facts, points={**facts.points, to: then}), [], [], "t")
+    assert snap.facts.points[to] == then
+    ctx = Context(None, belief, lambda d, w, why="": [])
+    executor = MonitoredExecutor(None, domain=parse(TIDY, "tidy.pddl"))
+    (navigate,) = executor.units(Step("move", ("wp-entrance", to), False, 1, 1.0, 1.0), snap, ctx)
+    assert navigate.goal == now[to] != then
