@@ -251,6 +251,26 @@ def test_moves_believed_blocked_are_forgotten_before_the_goal_shrinks(tmp_path, 
     assert any(e["kind"] == "plan" and e["adopted"] for e in events[unblock:])
 
 
+def test_poses_a_grasp_failed_from_are_forgotten_before_the_goal_shrinks(tmp_path, monkeypatch):
+    # After the first action every pose around the toy is believed failed (as a close look
+    # that missed by chance, or a slipped grasp, at the toy's only pose leaves it): no goal has
+    # a plan. A failure by chance proves nothing: the loop forgets them once and tidies.
+    def fail_all(belief, snapshot):
+        k = belief.items["toy-1"]
+        around = [(k.x + 0.1 * i, k.y + 0.1 * j) for i in range(-12, 13) for j in range(-12, 13)]
+        belief.failed_poses += [((k.x, k.y), q) for q in around]
+
+    _after_first_action(monkeypatch, fail_all)
+    summary, events = _run(tmp_path, _scenario("forgive", [("t1", 1.8, 1.0)]))
+    assert summary["success"], summary["reason"]
+    kinds = [e["kind"] for e in events]
+    unblock = kinds.index("unblock")
+    assert events[unblock]["poses"] > 0 and events[unblock]["moves"] == 0
+    # no pose left: no goal was planned for (the toy had no waypoint) until the unblock
+    assert [e["kind"] == "plan" for e in events[:unblock]].count(True) == 1
+    assert any(e["kind"] == "plan" and e["adopted"] for e in events[unblock:])
+
+
 def test_under_a_horizon_a_new_item_waits_for_the_next_horizon(tmp_path, monkeypatch):
     # 14 toys: more than one plan holds (monitor.goals.HORIZON), so the first goal is the 12
     # nearest. One toy stays out of sight for the first looks; when it shows up, the horizon's

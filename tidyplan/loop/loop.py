@@ -371,12 +371,16 @@ class Mission:
             self.belief.exploration.reset()  # items moved: views blocked before may be open now
             self.trace.emit("explore_again", unseen=len(self.belief.virtual()))
             return self._replan(cause, why)
-        if self.belief.blocked_moves and not self._unblocked:
-            # The moves found blocked were believed, not proven for good (a transient obstacle,
-            # an item since moved): before the goal shrinks, plan once more without them.
+        if (self.belief.blocked_moves or self.belief.failed_poses) and not self._unblocked:
+            # The moves found blocked and the poses a grasp failed from were believed, not proven
+            # for good (a transient obstacle, an item since moved; a look that missed by chance,
+            # a grasp that slipped, at an item's only pose): before the goal shrinks, plan once
+            # more without them (n96: the last item given up at its one tight pose)
             self._unblocked = True
-            self.trace.emit("unblock", moves=len(self.belief.blocked_moves))
+            moves, poses = len(self.belief.blocked_moves), len(self.belief.failed_poses)
+            self.trace.emit("unblock", moves=moves, poses=poses)
             self.belief.blocked_moves.clear()
+            self.belief.failed_poses.clear()
             return self._replan(cause, why)
         if self._looks_left > 0 and self._worth_looking():
             # Before giving up, look again from here: an item believed in the way that is not
