@@ -189,10 +189,12 @@ def test_a_step_goes_to_a_waypoint_where_the_belief_has_it_now():
     facts = belief.facts()
     now = belief.poses().points
     to = next(n for n in sorted(now) if n.startswith("vp-"))
-    then = (now[to][0] + 0.4, now[to][1])
-    snap = write(belief, replace(facts, points={**facts.points, to: then}), [], [], "t")
-    assert snap.facts.points[to] == then
+    then = {to: (now[to][0] + 0.4, now[to][1]), "wp-entrance": (now["wp-entrance"][0] + 0.2, 0.0)}
+    snap = write(belief, replace(facts, points={**facts.points, **then}), [], [], "t")
+    assert all(snap.facts.points[n] == q for n, q in then.items())
     ctx = Context(None, belief, lambda d, w, why="": [])
     executor = MonitoredExecutor(None, domain=parse(TIDY, "tidy.pddl"))
     (navigate,) = executor.units(Step("move", ("wp-entrance", to), False, 1, 1.0, 1.0), snap, ctx)
-    assert navigate.goal == now[to] != then
+    assert navigate.goal == now[to] != then[to]
+    # where the step starts (a way found blocked is blocked from there) is the belief's too
+    assert ctx.start == now["wp-entrance"] == belief.robot != then["wp-entrance"]

@@ -20,13 +20,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from tidyplan.belief.problem import Snapshot, robot_waypoint
 from tidyplan.belief.state import Belief
 from tidyplan.errors import PlannerError
 from tidyplan.exec import catalogue as cat
-from tidyplan.exec.context import Context
+from tidyplan.exec.context import Context, Point
 from tidyplan.exec.drawer_units import PullHandle
 from tidyplan.exec.put_down import PutDown
 from tidyplan.exec.units import AdjustBase, AlignAtDeposit, Grasp, Look, Navigate, Place
@@ -107,7 +107,7 @@ class MonitoredExecutor:
             if isinstance(result.where, AdjustBase | Grasp) and result.where.item in ctx.belief.items:
                 failed_at = result.where.item
             result.where.learn(result.failure)
-        here = _waypoint_at(snapshot, ctx.belief)
+        here = _waypoint_at(ctx.points or snapshot.facts.points, ctx.belief)
         took = ctx.belief.holding if ctx.belief.holding != held else None
         look = Look(ctx, here, after_failure=not result.ok, took=took, failed_at=failed_at)
         Runner(self.config, emit).run([look])
@@ -132,14 +132,14 @@ class MonitoredExecutor:
         if action is None or action.units is None:  # checked before the mission: ours if it happens
             raise PlannerError(f"{step.text}: the domain binds no units to {step.name!r}")
         binding = dict(zip((p.name for p in action.parameters), step.args, strict=True))
-        # where the planner has the robot when the step starts (its robot-at): a way learnt
-        # blocked is blocked from there
-        ctx.start = snapshot.facts.points[robot_waypoint(snapshot.facts, ctx.belief)]
         # each waypoint where the belief has it now: a grasp pose chosen anew since the plan (the
         # old one no longer usable, an item seen on it) is the one the monitor checked the plan
         # against. The plan's own point, no longer free, had no path to it: 28 s of looks and a
         # replan, about once a mission (a fifth of the replans of 18 rooms, symbolic)
-        points = {**snapshot.facts.points, **ctx.belief.poses().points}
+        points = ctx.points = {**snapshot.facts.points, **ctx.belief.poses().points}
+        # where the planner has the robot when the step starts (its robot-at): a way learnt
+        # blocked is blocked from there
+        ctx.start = points[robot_waypoint(replace(snapshot.facts, points=points), ctx.belief)]
         return [BUILD[c.unit](ctx, points, *(binding.get(a, a) for a in c.args)) for c in action.units]
 
 
@@ -157,8 +157,9 @@ BUILD: dict[str, Callable[..., Unit]] = {
 }
 
 
-def _waypoint_at(snapshot: Snapshot, belief: Belief) -> str | None:
-    for n, p in snapshot.facts.points.items():
+def _waypoint_at(points: dict[str, Point], belief: Belief) -> str | None:
+    """The waypoint the robot stands on, of the action's (``Context.points``)."""
+    for n, p in points.items():
         if math.dist(p, belief.robot) < 0.03:
             return n
     return None

@@ -22,6 +22,7 @@ class Context:
     observe: object
     new: list[str] = field(default_factory=list)
     start: Point | None = None  # the waypoint the action starts from, where the map has it
+    points: dict[str, Point] = field(default_factory=dict)  # the action's waypoints, where it began
     # item -> (the base's pose, where a close look from there found it, the reach for its height):
     # a grasp from the pose an adjustment's close look was made from needs no look of its own
     located: dict[str, tuple[Point, Point, tuple[float, float, float]]] = field(default_factory=dict)
