@@ -193,7 +193,8 @@ class AdjustBase(Unit):
         pose = self.ctx.world.pose()
         d = math.dist(pose, self.target)
         near, best, far = self.reach
-        if near - 0.05 <= d <= far and not self.another:
+        within = near - 0.05 <= d <= far
+        if within and not self.another:
             self.path = None
             return None
         bare = self.ctx.belief.room.grid(self.ctx.floor(without=self.item), bare=True)
@@ -207,7 +208,7 @@ class AdjustBase(Unit):
         options = sorted(
             (n, p) for n, p in zip(lengths, ring, strict=True) if n is not None and n <= ADJUST_PATH_MAX
         )
-        if not options and self.another and near - 0.05 <= d <= far:
+        if not options and within:
             # asked for another pose (the grasp failed from this one) where there is none: the
             # grasp is tried again from here, which reaches the item (a failed grasp at an item's
             # one tight pose asked four times and gave the action up: 15 of 54 faulty missions)
