@@ -241,6 +241,12 @@ def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():
     for turned in ((0.45, 0.19), (0.19, 0.45)):  # lying along x or along y: the robot can still go
         box = Placed(name, "toy", *unit.spot, sx=turned[0], sy=turned[1]).box()
         assert room.grid([box]).free(*world.robot), turned
+    # put down, it is aside (not one of the items a pair no single item frees waits for)
+    assert unit.do(None) is None
+    assert belief.placed()[0].aside and belief.placed()[0].xy == unit.spot
+    belief.taken(name)  # taken again and slipped out of the hand: not put aside
+    belief.fell(name, world.robot, 0.1)
+    assert not belief.placed()[0].aside
 
 
 def test_a_drive_does_not_step_back_to_the_centre_of_the_cell_the_robot_stands_in():

@@ -16,7 +16,7 @@ _EDITS = [0]  # changes to what the belief's views of its items read, on any Kno
 # Placed record; Belief.item_boxes: each one's box): a look that confirms an item sets its
 # misses, its size and its last look, and changes none of them unless the size differs (counted,
 # every frame's look made the views and the map's key anew)
-_VIEWED = frozenset(("name", "category", "x", "y", "on", "sx", "sy", "sz", "spread", "state"))
+_VIEWED = frozenset(("name", "category", "x", "y", "on", "sx", "sy", "sz", "spread", "state", "aside"))
 _UNSET = object()
 
 
@@ -43,6 +43,7 @@ class Known:
     misses: int = 0
     deposit: str | None = None
     spread: float = 0.0  # m it may lie from (x, y): 0 where seen; more where it fell unseen
+    aside: bool = False  # the robot's last put-down of it was out of the way (Placed.aside)
     oriented: bool = False  # an orientation item (the detector reported its down end)
     # where the camera stood when it found or confirmed the item, the latest last (a few kept):
     # a pose known to show it, for the looks after it is forgotten
@@ -59,18 +60,27 @@ class Known:
 
     def placed(self) -> Placed:
         p = self._placed
-        if p is None or (p.x, p.y, p.on, p.sx, p.sy, p.loose, p.category, p.name) != (
+        if p is None or (p.x, p.y, p.on, p.sx, p.sy, p.loose, p.aside, p.category, p.name) != (
             self.x,
             self.y,
             self.on,
             self.sx,
             self.sy,
             self.spread > 0,
+            self.aside,
             self.category,
             self.name,
         ):
             p = self._placed = Placed(
-                self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, self.spread > 0
+                self.name,
+                self.category,
+                self.x,
+                self.y,
+                self.on,
+                self.sx,
+                self.sy,
+                self.spread > 0,
+                self.aside,
             )
         return p
 

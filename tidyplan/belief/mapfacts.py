@@ -26,6 +26,9 @@ class Placed:
     # Fell where no look has found it yet: (x, y) is only where the robot stood, so it is no
     # obstacle on the map (put there it shut the robot in on every side, and no plan could start).
     loose: bool = False
+    # Put down by the robot out of the way (``put_down``: where it leaves every way open): not
+    # one of the items a pair no single item frees waits for (``RoomMap._find_blockers``).
+    aside: bool = False
 
     @property
     def xy(self) -> Point:

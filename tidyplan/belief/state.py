@@ -397,9 +397,10 @@ class Belief:
             self.blocked_moves.clear()  # the floor changed: old blockages may be gone
         self.sticky.pop(name, None)
 
-    def put(self, name: str, x: float, y: float, on: str = "floor") -> None:
+    def put(self, name: str, x: float, y: float, on: str = "floor", aside: bool = False) -> None:
+        """The item in the hand put down at (x, y); ``aside``: out of the way (``put_down``)."""
         k = self.items[name]
-        k.state, k.x, k.y, k.on, k.misses, k.spread = "placed", x, y, on, 0, 0.0
+        k.state, k.x, k.y, k.on, k.misses, k.spread, k.aside = "placed", x, y, on, 0, 0.0, aside
         self.holding = None
 
     def fell(self, name: str, near: Point, spread: float) -> None:

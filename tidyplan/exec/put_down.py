@@ -65,5 +65,5 @@ class PutDown(Unit):
         if not out.ok:
             self.tried.append(self.spot)
             return Failure(B, out.failure or "place_fail")
-        self.ctx.belief.put(self.item, *self.spot)
+        self.ctx.belief.put(self.item, *self.spot, aside=True)
         return None
