@@ -396,12 +396,14 @@ class OccupancyGrid:
         (no graph is built for it: at 96 objects each item's own grid did, 31 s a replan)."""
         return [(int(i), int(j)) for i, j in np.argwhere(self._labels == self._labels[start])]
 
-    def still_reaches(self, box: Box, a: Point, points: Sequence[Point]) -> bool:
-        """Would the robot at ``a`` still reach every one of ``points`` with ``box`` added to the
-        floor? This grid changed by the box (its cells only), for ranking where to put an item
-        down."""
+    def reaches_with(self, box: Box, a: Point, points: Sequence[Point]) -> int:
+        """How many of ``points`` the robot at ``a`` still reaches with ``box`` added to the floor
+        (-1: the box covers the robot's own cell). This grid changed by the box (its cells only),
+        for ranking where to put an item down."""
         grid = self.changed((*self.obstacles, box), (), (box,))
-        return grid.free(*a) and all(grid.connected(a, p) for p in points)
+        if not grid.free(*a):
+            return -1
+        return sum(grid.connected(a, p) for p in points)
 
     def changed(self, obstacles: Sequence[Box], gone: Sequence[Box], new: Sequence[Box]) -> OccupancyGrid:
         """The grid of ``obstacles``: this one's with ``gone`` taken away and ``new`` added. Only

@@ -89,6 +89,20 @@ def test_a_wall_of_boxes_makes_the_far_side_unreachable():
     assert grid.nearest_free(2.9, 1.5, reachable_from=a)[0] < 2.0  # snapped to a's side
 
 
+def test_a_box_put_down_is_ranked_by_how_many_points_the_robot_still_reaches():
+    """Where an item goes down (``put_down``): the points the robot still reaches with it on the
+    floor, counted (a spot that shuts one way beats one that shuts two), -1 on the robot's cell."""
+    wall = [Box(2.0, 0.25 + 0.5 * k, 0.1, 0.5) for k in range(5)]  # x = 2, a gap at the top
+    grid = OccupancyGrid(ROOM, wall)
+    robot, near, far = (1.0, 1.5), (1.0, 0.5), (3.0, 1.5)
+    assert grid.connected(robot, far) and grid.connected(robot, near)
+    gap = Box(2.0, 2.75, 0.1, 0.5)  # shuts the way through the wall: far is cut off
+    assert grid.reaches_with(gap, robot, [near, far]) == 1
+    assert grid.reaches_with(Box(3.5, 0.5, 0.1, 0.1), robot, [near, far]) == 2  # out of the way
+    assert grid.reaches_with(Box(*robot, 0.1, 0.1), robot, [near, far]) == -1
+    assert grid.reaches_with(gap, robot, []) == 0
+
+
 def test_a_point_in_an_obstacle_is_unreachable(with_box):
     assert with_box.path_length((2.0, 1.5), (0.5, 0.5)) is None
 

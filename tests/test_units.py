@@ -249,6 +249,33 @@ def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():
     assert not belief.placed()[0].aside
 
 
+def test_an_item_is_not_put_down_back_where_it_was_taken_from():
+    """Put back on its spot, an item taken to open a way closes it again: in a crowded room it
+    was taken, put back and taken again, 23 times in a row. The spot it would have had is not
+    chosen when the item was taken from there."""
+    from tidyplan.belief.percepts import Detection
+    from tidyplan.belief.state import Belief
+    from tidyplan.exec.units import Context, PutDown
+
+    scenario = _scenario("back", [("t1", 1.0, 1.0)])
+    room = RoomMap(scenario)
+    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
+    world.robot = (1.5, 1.5)
+    belief = Belief(scenario, room)
+    belief.robot = world.robot
+    name = belief.observe([Detection("toy", 1.0, 1.0, "floor", 0.08, 0.08, 0.1)], None).new[0]
+    assert world.grasp((1.0, 1.0)).ok
+    belief.taken(name)
+    unit = PutDown(Context(world, belief, lambda d, w, why="": []), name)
+    assert unit.plan() is None
+    best = unit.spot  # taken from elsewhere, the item would go here
+    assert math.dist(best, (1.0, 1.0)) >= 0.2
+    belief.items[name].x, belief.items[name].y = best  # as if taken from that spot
+    again = PutDown(Context(world, belief, lambda d, w, why="": []), name)
+    assert again.plan() is None
+    assert math.dist(again.spot, best) >= 0.2
+
+
 def test_a_drive_does_not_step_back_to_the_centre_of_the_cell_the_robot_stands_in():
     """A path on the grid starts at the centre of the robot's cell; the base, stopped anywhere in
     it, goes straight on to the next one instead. An object too close for the camera beside the

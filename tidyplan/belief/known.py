@@ -60,28 +60,10 @@ class Known:
 
     def placed(self) -> Placed:
         p = self._placed
-        if p is None or (p.x, p.y, p.on, p.sx, p.sy, p.loose, p.aside, p.category, p.name) != (
-            self.x,
-            self.y,
-            self.on,
-            self.sx,
-            self.sy,
-            self.spread > 0,
-            self.aside,
-            self.category,
-            self.name,
-        ):
-            p = self._placed = Placed(
-                self.name,
-                self.category,
-                self.x,
-                self.y,
-                self.on,
-                self.sx,
-                self.sy,
-                self.spread > 0,
-                self.aside,
-            )
+        loose = self.spread > 0
+        now = (self.name, self.category, self.x, self.y, self.on, self.sx, self.sy, loose, self.aside)
+        if p is None or (p.name, p.category, p.x, p.y, p.on, p.sx, p.sy, p.loose, p.aside) != now:
+            p = self._placed = Placed(*now)
         return p
 
     def saw(self, at: Point, look: int) -> None:

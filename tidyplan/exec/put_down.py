@@ -35,6 +35,10 @@ class PutDown(Unit):
         centre = ((x0 + x1) / 2, (y0 + y1) / 2)
         occupied = [p.xy for p in belief.placed()] + self.tried
         item = belief.items[self.item]
+        if item.on == "floor":
+            # not back where it was taken from: there it closes again what taking it opened (a
+            # room of 72 items: taken to open a way, put back on its spot, 23 times in a row)
+            occupied.append((item.x, item.y))
         # where the arm puts it down upright (a tall box held level by its side, 0.62 m out: at
         # 0.45 m the level hand was too close, the box let go tilted and toppled), and far enough
         # out that the item, turned any way, leaves the robot's own cell free: a long box (a
@@ -45,7 +49,9 @@ class PutDown(Unit):
         if not spots:
             return Failure(A, "no_spot", "no free floor next to the robot")
         # Out of the way: where it leaves every waypoint the robot reaches now reachable (it must
-        # go back, and on), then the farthest from the room's centre, towards the walls.
+        # go back, and on), or else the most of them (the farthest from the centre among spots
+        # that each shut some way, it shut the robot in by the entrance: 72 items, one room),
+        # then the farthest from the room's centre, towards the walls.
         pose = self.ctx.world.pose()
         grid = belief.room.grid(self.ctx.floor(without=self.item))
         points = list(belief.facts().points.values())
@@ -53,7 +59,7 @@ class PutDown(Unit):
         self.spot = max(
             spots,
             key=lambda p: (
-                grid.still_reaches(Box(p[0], p[1], item.sx, item.sy), pose, needed),
+                grid.reaches_with(Box(p[0], p[1], item.sx, item.sy), pose, needed),
                 math.dist(p, centre),
                 p,
             ),
