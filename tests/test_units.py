@@ -218,24 +218,31 @@ def test_a_look_that_confirms_an_item_takes_its_place_and_extent_as_it_lies_now(
     assert (k.y, k.sx, k.sy) == (1.1, 0.19, 0.45)
 
 
-def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():
-    """drop_object puts the item on a ring around the base: 0.45 m out, or farther for a long one,
-    so that turned any way it leaves the robot's own cell free (a toolbox lying, 0.45 m long, put
-    down 0.45 m out shut the robot in beside it: case III with faults, seed 3)."""
+def _holding(label: str, at: tuple[float, float], size: tuple[float, float, float]):
+    """A symbolic world and belief with the robot at (1.5, 1.5) holding the one item, seen at
+    ``at`` on the floor (``size``): (room, world, belief, the item's name, its put_down unit)."""
     from tidyplan.belief.percepts import Detection
     from tidyplan.belief.state import Belief
     from tidyplan.exec.units import Context, PutDown
 
-    scenario = _scenario("long", [("t1", 1.5, 1.0, (0.45, 0.19, 0.19))])
+    scenario = _scenario(label, [("t1", *at, size)])
     room = RoomMap(scenario)
     world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
     world.robot = (1.5, 1.5)
     belief = Belief(scenario, room)
     belief.robot = world.robot
-    name = belief.observe([Detection("toy", 1.5, 1.0, "floor", 0.45, 0.19, 0.19)], None).new[0]
-    assert world.grasp((1.5, 1.0)).ok
+    name = belief.observe([Detection("toy", *at, "floor", *size)], None).new[0]
+    assert world.grasp(at).ok
     belief.taken(name)
-    unit = PutDown(Context(world, belief, lambda d, w, why="": []), name)
+    return room, world, belief, name, lambda: PutDown(Context(world, belief, lambda d, w, why="": []), name)
+
+
+def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():
+    """drop_object puts the item on a ring around the base: 0.45 m out, or farther for a long one,
+    so that turned any way it leaves the robot's own cell free (a toolbox lying, 0.45 m long, put
+    down 0.45 m out shut the robot in beside it: case III with faults, seed 3)."""
+    room, world, belief, name, put_down = _holding("long", (1.5, 1.0), (0.45, 0.19, 0.19))
+    unit = put_down()
     assert unit.check() is None and unit.plan() is None
     assert math.dist(unit.spot, world.robot) >= room.nav_radius + math.hypot(0.45, 0.19) / 2
     for turned in ((0.45, 0.19), (0.19, 0.45)):  # lying along x or along y: the robot can still go
@@ -253,25 +260,13 @@ def test_an_item_is_not_put_down_back_where_it_was_taken_from():
     """Put back on its spot, an item taken to open a way closes it again: in a crowded room it
     was taken, put back and taken again, 23 times in a row. The spot it would have had is not
     chosen when the item was taken from there."""
-    from tidyplan.belief.percepts import Detection
-    from tidyplan.belief.state import Belief
-    from tidyplan.exec.units import Context, PutDown
-
-    scenario = _scenario("back", [("t1", 1.0, 1.0)])
-    room = RoomMap(scenario)
-    world = SymbolicWorld(scenario, room, seed=0, rates=EXACT)
-    world.robot = (1.5, 1.5)
-    belief = Belief(scenario, room)
-    belief.robot = world.robot
-    name = belief.observe([Detection("toy", 1.0, 1.0, "floor", 0.08, 0.08, 0.1)], None).new[0]
-    assert world.grasp((1.0, 1.0)).ok
-    belief.taken(name)
-    unit = PutDown(Context(world, belief, lambda d, w, why="": []), name)
+    _room, _world, belief, name, put_down = _holding("back", (1.0, 1.0), (0.08, 0.08, 0.1))
+    unit = put_down()
     assert unit.plan() is None
     best = unit.spot  # taken from elsewhere, the item would go here
     assert math.dist(best, (1.0, 1.0)) >= 0.2
     belief.items[name].x, belief.items[name].y = best  # as if taken from that spot
-    again = PutDown(Context(world, belief, lambda d, w, why="": []), name)
+    again = put_down()
     assert again.plan() is None
     assert math.dist(again.spot, best) >= 0.2
 
