@@ -258,7 +258,7 @@ def test_a_long_item_is_put_down_far_enough_out_to_leave_the_robot_free_to_go():
 
 def test_an_item_is_not_put_down_back_where_it_was_taken_from():
     """Put back on its spot, an item taken to open a way closes it again: in a crowded room it
-    was taken, put back and taken again, 23 times in a row. The spot it would have had is not
+    was taken, put back and taken again, 9 times in a row. The spot it would have had is not
     chosen when the item was taken from there."""
     _room, _world, belief, name, put_down = _holding("back", (1.0, 1.0), (0.08, 0.08, 0.1))
     unit = put_down()

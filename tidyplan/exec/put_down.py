@@ -36,8 +36,8 @@ class PutDown(Unit):
         occupied = [p.xy for p in belief.placed()] + self.tried
         item = belief.items[self.item]
         if item.on == "floor":
-            # not back where it was taken from: there it closes again what taking it opened (a
-            # room of 72 items: taken to open a way, put back on its spot, 23 times in a row)
+            # not back where it was taken from: there it closes again what taking it opened (one
+            # room of 96 items: taken to open a way and put back on its spot, 9 times in a row)
             occupied.append((item.x, item.y))
         # where the arm puts it down upright (a tall box held level by its side, 0.62 m out: at
         # 0.45 m the level hand was too close, the box let go tilted and toppled), and far enough
@@ -50,7 +50,7 @@ class PutDown(Unit):
             return Failure(A, "no_spot", "no free floor next to the robot")
         # Out of the way: where it leaves every waypoint the robot reaches now reachable (it must
         # go back, and on), or else the most of them (the farthest from the centre among spots
-        # that each shut some way, it shut the robot in by the entrance: 72 items, one room),
+        # that each shut some way, four in a row shut the robot in by the entrance: 96 items),
         # then the farthest from the room's centre, towards the walls.
         pose = self.ctx.world.pose()
         grid = belief.room.grid(self.ctx.floor(without=self.item))
