@@ -271,6 +271,30 @@ def test_an_item_is_not_put_down_back_where_it_was_taken_from():
     assert math.dist(again.spot, best) >= 0.2
 
 
+def test_where_every_spot_shuts_some_way_the_item_goes_where_the_most_stay_open(monkeypatch):
+    """No spot keeps every waypoint the robot reaches: the one that keeps the most is chosen, not
+    the one farthest from the room's centre (four such spots in a row, chosen by that alone,
+    walled the robot in by the entrance of a room of 96 items)."""
+    from sim.grid import OccupancyGrid
+
+    _room, _world, _belief, _name, put_down = _holding("most", (1.0, 1.0), (0.08, 0.08, 0.1))
+    unit = put_down()
+    assert unit.plan() is None
+    farthest = unit.spot  # every spot keeps every way: the farthest from the centre
+    asked: list = []
+
+    def reaches_with(self, box, a, points):
+        # each spot shuts some way, the farther east the more
+        asked.append((box.cx, box.cy))
+        return len(points) - 1 - round(box.cx * 1000)
+
+    monkeypatch.setattr(OccupancyGrid, "reaches_with", reaches_with)
+    unit = put_down()
+    assert unit.plan() is None
+    west = min(asked)
+    assert unit.spot == west != farthest
+
+
 def test_a_drive_does_not_step_back_to_the_centre_of_the_cell_the_robot_stands_in():
     """A path on the grid starts at the centre of the robot's cell; the base, stopped anywhere in
     it, goes straight on to the next one instead. An object too close for the camera beside the
